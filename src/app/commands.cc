@@ -1,0 +1,308 @@
+// The analyses behind the command line. They follow the pipeline: read the scene (io), build
+// the arm's FE model (geometry, fem), solve the eigenproblem (reduction), write results (io).
+// Nothing is written until every computation has succeeded, so a failed run leaves no
+// half-written results behind.
+#include <app/commands.h>
+#include <fem/curved_beam_model.h>
+#include <io/arm_scene.h>
+#include <io/input_error.h>
+#include <io/json.h>
+#include <io/mode_shape_writer.h>
+#include <reduction/modal_solver.h>
+
+#include <deal.II/base/timer.h>
+
+#include <sys/resource.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace flextrack::app
+{
+using namespace dealii;
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string output_directory(const Options &options, const io::ArmScene &scene)
+{
+  if (!options.output_directory.empty()) return options.output_directory;
+  if (!scene.output.directory.empty()) return scene.output.directory;
+  return "output/" + fs::path(options.file).stem().string();
+}
+
+void make_directory(const std::string &dir)
+{
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw InputError("-o / Output/Directory", "cannot create the output folder '" + dir + "': " + ec.message());
+}
+
+/// Automatic shift: minus the squared first clamped-free bending frequency of a straight
+/// beam of the arm's length and section, an estimate of the scale of the lowest modes.
+double automatic_shift(const fem::Arm &arm)
+{
+  const double L = arm.curve->length();
+  const double EI = arm.material.youngs_modulus * std::min(arm.section.inertia_y, arm.section.inertia_z);
+  const double w = 1.875104068711961 * 1.875104068711961 * std::sqrt(EI / (arm.material.density * arm.section.area)) / (L * L);
+  return -w * w;
+}
+
+double peak_memory_mib()
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;
+}
+
+std::string parameters_as_json(const ParameterHandler &prm)
+{
+  std::ostringstream s;
+  prm.print_parameters(s, ParameterHandler::OutputStyle(ParameterHandler::JSON | ParameterHandler::Short));
+  return s.str();
+}
+
+struct ModalRun
+{
+  unsigned int n_dofs = 0, n_free_dofs = 0, n_cells = 0;
+  reduction::Modes modes;
+};
+
+/// Build the model on the given refinement level and solve for its lowest modes.
+ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, TimerOutput &timer,
+                 std::unique_ptr<fem::CurvedBeamModel> *keep_model = nullptr)
+{
+  std::unique_ptr<fem::CurvedBeamModel> model;
+  {
+    TimerOutput::Scope t(timer, "assemble K and M");
+    try
+      {
+        model = std::make_unique<fem::CurvedBeamModel>(scene.arm, refinement);
+      }
+    catch (const geometry::FrameError &e)
+      {
+        throw InputError("Arm/Section frame/Kind", e.what(), scene.file);
+      }
+  }
+  ModalRun run;
+  run.n_dofs = model->n_dofs();
+  run.n_free_dofs = model->n_free_dofs();
+  run.n_cells = model->n_cells();
+  {
+    TimerOutput::Scope t(timer, "eigen solve");
+    const double shift = std::isnan(scene.modal.shift) ? automatic_shift(scene.arm) : scene.modal.shift;
+    try
+      {
+        run.modes = reduction::lowest_modes(model->stiffness_matrix(), model->mass_matrix(), model->n_free_dofs(),
+                                            scene.modal, shift);
+      }
+    catch (const InputError &e)
+      {
+        throw e.in_file(scene.file);
+      }
+  }
+  if (keep_model) *keep_model = std::move(model);
+  return run;
+}
+
+void write_text(const std::string &path, const std::string &text)
+{
+  std::ofstream out(path);
+  out << text;
+  if (!out)
+    throw InputError("-o / Output/Directory", "cannot write '" + path + "'");
+}
+
+io::JsonObject timings_json(const TimerOutput &timer)
+{
+  io::JsonObject t;
+  for (const auto &[name, seconds] : timer.get_summary_data(TimerOutput::total_wall_time)) t.add(name, seconds);
+  return t;
+}
+
+std::string csv_number(const double v)
+{
+  std::ostringstream o;
+  o << std::setprecision(12) << v;
+  return o.str();
+}
+} // namespace
+
+int modes(const Options &options)
+{
+  Timer wall;
+  std::ostringstream log;
+  TimerOutput timer(log, TimerOutput::never, TimerOutput::wall_times);
+  ParameterHandler prm;
+  io::declare_arm_scene(prm);
+  io::ArmScene scene;
+  {
+    TimerOutput::Scope t(timer, "read parameters and geometry");
+    scene = io::read_arm_scene(options.file, prm);
+  }
+  std::cout << "flextrack modes: " << options.file << "\n  curve: " << scene.arm.curve->description()
+            << ", L = " << scene.arm.curve->length() << " m" << (scene.arm.curve->is_closed() ? " (closed)" : "")
+            << "\n  mesh: " << scene.arm.n_elements << " elements of degree " << scene.arm.degree << std::endl;
+
+  std::unique_ptr<fem::CurvedBeamModel> model;
+  const ModalRun run = analyse(scene, 0, timer, &model);
+  const std::vector<double> f = run.modes.frequencies_hz();
+
+  // Every computation has succeeded: now write the results.
+  const std::string dir = output_directory(options, scene);
+  {
+    TimerOutput::Scope t(timer, "write output");
+    make_directory(dir);
+    std::ostringstream csv;
+    csv << "mode,frequency_Hz\n";
+    for (std::size_t k = 0; k < f.size(); ++k) csv << k + 1 << "," << csv_number(f[k]) << "\n";
+    write_text(dir + "/frequencies.csv", csv.str());
+    std::ostringstream used;
+    prm.print_parameters(used, ParameterHandler::OutputStyle(ParameterHandler::PRM | ParameterHandler::Short));
+    write_text(dir + "/parameters_used.prm", used.str());
+    if (scene.output.mode_shapes)
+      io::write_mode_shapes(dir, model->dof_handler(), model->mapping(), run.modes.shapes,
+                            scene.output.subdivisions);
+  }
+  io::JsonObject summary;
+  summary.add("program", "flextrack " FLEXTRACK_VERSION)
+    .add("command", "modes")
+    .add("parameter_file", options.file)
+    .add("curve", scene.arm.curve->description())
+    .add("length_m", scene.arm.curve->length())
+    .add("elements", run.n_cells)
+    .add("element_degree", scene.arm.degree)
+    .add("degrees_of_freedom", run.n_dofs)
+    .add("free_degrees_of_freedom", run.n_free_dofs)
+    .add("frequencies_Hz", f)
+    .add("eigenvalues_rad2_per_s2", run.modes.eigenvalues)
+    .add("wall_time_s", timings_json(timer))
+    .add("total_wall_time_s", wall.wall_time())
+    .add("peak_memory_MiB", peak_memory_mib())
+    .raw("parameters", parameters_as_json(prm));
+  write_text(dir + "/summary.json", summary.str() + "\n");
+
+  std::cout << "  degrees of freedom: " << run.n_dofs << " (" << run.n_free_dofs << " free)\n\n"
+            << "  mode  frequency [Hz]\n";
+  for (std::size_t k = 0; k < f.size(); ++k)
+    std::cout << "  " << std::setw(4) << k + 1 << "  " << std::setprecision(10) << f[k] << "\n";
+  std::cout << "\n  wall time [s]:";
+  for (const auto &[name, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))
+    std::cout << "  " << name << " " << std::setprecision(3) << seconds << ";";
+  std::cout << "  total " << wall.wall_time() << "\n  peak memory: " << std::setprecision(4) << peak_memory_mib()
+            << " MiB\n  results in " << dir << "/ (frequencies.csv, summary.json"
+            << (scene.output.mode_shapes ? ", mode_shapes.pvd" : "") << ")" << std::endl;
+  return 0;
+}
+
+int converge(const Options &options)
+{
+  Timer wall;
+  std::ostringstream log;
+  TimerOutput timer(log, TimerOutput::never, TimerOutput::wall_times);
+  ParameterHandler prm;
+  io::declare_arm_scene(prm);
+  io::ArmScene scene;
+  {
+    TimerOutput::Scope t(timer, "read parameters and geometry");
+    scene = io::read_arm_scene(options.file, prm);
+  }
+  const unsigned int K = options.refinements;
+  std::cout << "flextrack converge: " << options.file << ", " << K << " refinements of " << scene.arm.n_elements
+            << " elements of degree " << scene.arm.degree << std::endl;
+
+  std::vector<ModalRun> levels;
+  std::vector<double> level_times;
+  for (unsigned int k = 0; k <= K; ++k)
+    {
+      Timer level_timer;
+      levels.push_back(analyse(scene, k, timer));
+      level_times.push_back(level_timer.wall_time());
+      std::cout << "  level " << k << ": " << levels.back().n_cells << " elements, " << levels.back().n_dofs
+                << " dofs, " << std::setprecision(3) << level_times.back() << " s" << std::endl;
+    }
+
+  // Per mode and level: frequency, change from the previous level, observed order
+  // p = log2(change_{k-1} / change_k) (halving h), and the error against the finest level.
+  const unsigned int n_modes = scene.modal.n_modes;
+  std::ostringstream csv;
+  csv << "mode,level,elements,dofs,frequency_Hz,change_Hz,observed_order,relative_error_vs_finest,wall_time_s\n";
+  std::cout << "\n  mode level     dofs     frequency [Hz]      change [Hz]   order\n";
+  for (unsigned int m = 0; m < n_modes; ++m)
+    for (unsigned int k = 0; k <= K; ++k)
+      {
+        const double fk = levels[k].modes.frequencies_hz()[m];
+        const double finest = levels[K].modes.frequencies_hz()[m];
+        const double change = k > 0 ? fk - levels[k - 1].modes.frequencies_hz()[m] : NAN;
+        double order = NAN;
+        if (k > 1)
+          {
+            const double previous = levels[k - 1].modes.frequencies_hz()[m] - levels[k - 2].modes.frequencies_hz()[m];
+            order = std::log2(std::abs(previous / change));
+          }
+        const double error = k < K ? std::abs(fk - finest) / std::abs(finest) : NAN;
+        auto field = [](double v) { return std::isnan(v) ? std::string() : csv_number(v); };
+        csv << m + 1 << "," << k << "," << levels[k].n_cells << "," << levels[k].n_dofs << "," << csv_number(fk) << ","
+            << field(change) << "," << field(order) << "," << field(error) << "," << csv_number(level_times[k]) << "\n";
+        std::cout << "  " << std::setw(4) << m + 1 << std::setw(6) << k << std::setw(9) << levels[k].n_dofs
+                  << std::setw(19) << std::setprecision(12) << fk << std::setw(17) << std::setprecision(4)
+                  << (std::isnan(change) ? std::string("-") : csv_number(change)) << std::setw(8)
+                  << std::setprecision(3) << (std::isnan(order) ? std::string("-") : csv_number(order)) << "\n";
+      }
+
+  const std::string dir = output_directory(options, scene);
+  make_directory(dir);
+  write_text(dir + "/convergence.csv", csv.str());
+  // Plot: relative error against the finest level versus dofs, log-log, one line per mode.
+  std::ostringstream gp;
+  gp << "# gnuplot script written by flextrack converge\n"
+     << "set terminal pngcairo size 900,650\nset output 'convergence.png'\n"
+     << "set datafile separator ','\nset logscale xy\nset grid\nset key outside right\n"
+     << "set xlabel 'degrees of freedom'\nset ylabel 'relative frequency error vs finest level'\n"
+     << "set title 'Mesh convergence, element degree " << scene.arm.degree << "'\n"
+     << "plot for [m=1:" << n_modes << "] 'convergence.csv' using ($1==m && $8 > 0 ? $4 : NaN):8 "
+     << "with linespoints title sprintf('mode %d', m)\n";
+  write_text(dir + "/convergence.gp", gp.str());
+  bool plotted = false;
+  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0)
+    plotted = std::system(("cd '" + dir + "' && gnuplot convergence.gp 2>/dev/null").c_str()) == 0;
+
+  io::JsonObject summary;
+  summary.add("program", "flextrack " FLEXTRACK_VERSION)
+    .add("command", "converge")
+    .add("parameter_file", options.file)
+    .add("refinements", K);
+  std::string level_list = "[";
+  for (unsigned int k = 0; k <= K; ++k)
+    {
+      io::JsonObject l;
+      l.add("level", k).add("elements", levels[k].n_cells).add("degrees_of_freedom", levels[k].n_dofs)
+        .add("frequencies_Hz", levels[k].modes.frequencies_hz()).add("wall_time_s", level_times[k]);
+      level_list += (k ? ", " : "") + l.str(4);
+    }
+  summary.raw("levels", level_list + "]")
+    .add("wall_time_s", timings_json(timer))
+    .add("total_wall_time_s", wall.wall_time())
+    .add("peak_memory_MiB", peak_memory_mib())
+    .raw("parameters", parameters_as_json(prm));
+  write_text(dir + "/summary.json", summary.str() + "\n");
+  std::cout << "\n  results in " << dir << "/ (convergence.csv, summary.json"
+            << (plotted ? ", convergence.png" : "; gnuplot not found, no plot") << ")\n  total wall time "
+            << wall.wall_time() << " s" << std::endl;
+  return 0;
+}
+
+int print_parameters()
+{
+  ParameterHandler prm;
+  io::declare_arm_scene(prm);
+  prm.print_parameters(std::cout, ParameterHandler::PRM);
+  return 0;
+}
+} // namespace flextrack::app

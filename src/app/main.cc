@@ -1,0 +1,151 @@
+// flextrack: command-line entry point.
+//
+// Parses the command line, starts MPI (Trilinos needs it), runs one command, and turns every
+// error a user can cause into one clear line on stderr and a non-zero exit status:
+//   2 = bad input (file, entry, allowed values), 3 = solver failure, 4 = internal error.
+#include <app/commands.h>
+#include <geometry/section_frame.h>
+#include <io/input_error.h>
+#include <reduction/modal_solver.h>
+
+#include <deal.II/base/exceptions.h>
+
+#include <mpi.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace
+{
+const char *usage = R"(flextrack - flexible multibody systems on curved, flexible sliding tracks
+
+Usage:
+  flextrack                          run the default scene (modal analysis of prm/helix_arm.prm)
+  flextrack run FILE.prm [-o DIR]    run a scene (for now: the modal analysis of its arm)
+  flextrack modes FILE.prm [-o DIR]  natural frequencies and mode shapes of the arm in FILE
+  flextrack converge FILE.prm --refinements K [-o DIR]
+                                     the same on K successively halved meshes, with the change
+                                     and observed order of convergence of every frequency
+  flextrack print-parameters         every parameter: default, allowed values, unit, meaning
+  flextrack --help | --version
+
+Results go to DIR (default: output/<FILE name without extension>/):
+  frequencies.csv   mode, frequency [Hz]
+  summary.json      degrees of freedom, frequencies, wall time per stage, parameters used
+  mode_shapes.pvd   mass-normalised mode shapes (VTU series; open in ParaView)
+  convergence.csv, convergence.png   (converge)
+Exit status: 0 success, 1 usage error, 2 bad input, 3 solver failure, 4 internal error.
+)";
+
+std::string default_scene()
+{
+  // From the repository root, or wherever the program was built from.
+  for (const std::string candidate : {"prm/helix_arm.prm", FLEXTRACK_SOURCE_DIR "/prm/helix_arm.prm"})
+    if (std::filesystem::exists(candidate)) return candidate;
+  return "prm/helix_arm.prm";
+}
+
+int usage_error(const std::string &message)
+{
+  std::cerr << "flextrack: " << message << "\n(see flextrack --help)" << std::endl;
+  return 1;
+}
+
+int dispatch(const std::vector<std::string> &args)
+{
+  using namespace flextrack::app;
+  if (args.empty()) return modes({default_scene(), "", 0});
+  const std::string &command = args[0];
+  if (command == "--help" || command == "-h" || command == "help")
+    {
+      std::cout << usage;
+      return 0;
+    }
+  if (command == "--version")
+    {
+      std::cout << "flextrack " FLEXTRACK_VERSION << std::endl;
+      return 0;
+    }
+  if (command == "print-parameters") return print_parameters();
+  if (command != "run" && command != "modes" && command != "converge")
+    return usage_error("unknown command '" + command + "'; allowed: run, modes, converge, print-parameters");
+
+  Options options;
+  bool have_refinements = false;
+  for (std::size_t i = 1; i < args.size(); ++i)
+    {
+      if (args[i] == "-o" || args[i] == "--output")
+        {
+          if (++i == args.size()) return usage_error("-o needs a folder name");
+          options.output_directory = args[i];
+        }
+      else if (args[i] == "--refinements" && command == "converge")
+        {
+          if (++i == args.size()) return usage_error("--refinements needs a number");
+          try
+            {
+              const int k = std::stoi(args[i]);
+              if (k < 1 || k > 12) throw std::out_of_range("K");
+              options.refinements = k;
+              have_refinements = true;
+            }
+          catch (...)
+            {
+              return usage_error("--refinements must be an integer from 1 to 12, not '" + args[i] + "'");
+            }
+        }
+      else if (!args[i].empty() && args[i][0] == '-')
+        return usage_error("unknown option '" + args[i] + "' for " + command);
+      else if (options.file.empty())
+        options.file = args[i];
+      else
+        return usage_error("more than one parameter file given ('" + options.file + "', '" + args[i] + "')");
+    }
+  if (options.file.empty()) return usage_error(command + " needs a parameter file");
+  if (command == "converge")
+    {
+      if (!have_refinements) return usage_error("converge needs --refinements K");
+      return converge(options);
+    }
+  return modes(options);
+}
+} // namespace
+
+int main(int argc, char **argv)
+{
+  // A singleton MPI process starts much faster when it does not look for a runtime daemon.
+  if (!std::getenv("OMPI_COMM_WORLD_SIZE")) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  MPI_Init(&argc, &argv);
+  int status = 0;
+  try
+    {
+      status = dispatch(std::vector<std::string>(argv + 1, argv + argc));
+    }
+  catch (const flextrack::InputError &e)
+    {
+      std::cerr << "flextrack: error: " << e.what() << std::endl;
+      status = 2;
+    }
+  catch (const flextrack::reduction::SolverError &e)
+    {
+      std::cerr << "flextrack: solver failure: " << e.what() << std::endl;
+      status = 3;
+    }
+  catch (const dealii::ExceptionBase &e)
+    {
+      std::cerr << "flextrack: internal error:";
+      e.print_info(std::cerr);
+      std::cerr << std::endl;
+      status = 4;
+    }
+  catch (const std::exception &e)
+    {
+      std::cerr << "flextrack: internal error: " << e.what() << std::endl;
+      status = 4;
+    }
+  MPI_Finalize();
+  return status;
+}

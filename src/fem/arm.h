@@ -1,0 +1,43 @@
+// Everything that defines one curved flexible arm: centre line, section frame, cross-section,
+// material, supports and mesh settings, read from "subsection Arm" of a parameter file.
+#pragma once
+
+#include <fem/cross_section.h>
+#include <fem/material.h>
+#include <geometry/curve.h>
+#include <geometry/curve_library.h>
+#include <geometry/section_frame.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <memory>
+#include <vector>
+
+namespace flextrack::fem
+{
+enum class SupportKind { free, pinned, clamped };
+
+/// A support at arc length s: pinned fixes the 3 displacements, clamped also the 3 rotations.
+struct Support
+{
+  double s;
+  SupportKind kind;
+};
+
+struct Arm
+{
+  std::shared_ptr<const geometry::Curve> curve;
+  std::shared_ptr<const geometry::SectionFrame> frame;
+  CrossSection section;
+  Material material;
+  std::vector<Support> supports;
+  unsigned int n_elements = 16; ///< on the coarsest mesh
+  unsigned int degree = 2;      ///< polynomial degree of the beam element, 1..3
+
+  static void declare_parameters(dealii::ParameterHandler &prm);
+  /// Reads "subsection Arm"; relative file names are taken from @p directory.
+  static Arm parse_parameters(dealii::ParameterHandler &prm, const std::string &directory);
+};
+
+SupportKind parse_support_kind(const std::string &text, const std::string &entry);
+} // namespace flextrack::fem

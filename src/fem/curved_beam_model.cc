@@ -1,0 +1,182 @@
+#include <fem/curved_beam_model.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+
+#include <array>
+
+namespace flextrack::fem
+{
+using namespace dealii;
+
+namespace
+{
+/// Section frame (t, y, z) at one quadrature point.
+struct SectionAxes
+{
+  Tensor<1, 3> t, y, z;
+};
+
+SectionAxes section_axes(const Arm &arm, const Tensor<1, 3> &tangent, const double s)
+{
+  SectionAxes a;
+  a.t = tangent / tangent.norm();
+  // The exact frame's y axis, made orthogonal to the mapped tangent (they differ by the
+  // geometric error of the mapping only).
+  const Tensor<1, 3> y = arm.frame->y_axis(s);
+  a.y = y - (y * a.t) * a.t;
+  a.y /= a.y.norm();
+  a.z = cross_product_3d(a.t, a.y);
+  return a;
+}
+
+/// Strain vector [Gamma_t, Gamma_y, Gamma_z, kappa_t, kappa_y, kappa_z] of one shape function.
+std::array<double, 6> strains(const SectionAxes &a, const unsigned int component, const double N, const double dN)
+{
+  if (component < 3)
+    return {a.t[component] * dN, a.y[component] * dN, a.z[component] * dN, 0, 0, 0};
+  const unsigned int c = component - 3; // t x e_c in section axes: (0, -z_c, y_c)
+  return {0, -a.z[c] * N, a.y[c] * N, a.t[c] * dN, a.y[c] * dN, a.z[c] * dN};
+}
+} // namespace
+
+CurvedBeamModel::CurvedBeamModel(const Arm &arm, const unsigned int refinement)
+  : description(arm), mesh(arm, refinement), fe(FE_Q<1, 3>(arm.degree), 6),
+    map(std::make_unique<MappingQ<1, 3>>(arm.degree)), dofs(mesh.triangulation())
+{
+  setup_dofs();
+  apply_supports();
+  assemble();
+}
+
+void CurvedBeamModel::setup_dofs() { dofs.distribute_dofs(fe); }
+
+void CurvedBeamModel::apply_supports()
+{
+  // Each support station is a mesh vertex; fix its 3 displacements (pinned) or all 6 dofs.
+  std::map<unsigned int, unsigned int> fixed_per_vertex; // vertex -> number of fixed components
+  for (const auto &support : description.supports)
+    {
+      const unsigned int n = support.kind == SupportKind::clamped ? 6 : support.kind == SupportKind::pinned ? 3 : 0;
+      unsigned int &current = fixed_per_vertex[mesh.vertex_at(support.s)];
+      current = std::max(current, n);
+    }
+  for (const auto &cell : dofs.active_cell_iterators())
+    for (unsigned int v = 0; v < 2; ++v)
+      if (const auto it = fixed_per_vertex.find(cell->vertex_index(v)); it != fixed_per_vertex.end())
+        for (unsigned int c = 0; c < it->second; ++c)
+          {
+            const auto dof = cell->vertex_dof_index(v, c);
+            if (!supports.is_constrained(dof)) supports.add_line(dof);
+          }
+  supports.close();
+}
+
+void CurvedBeamModel::assemble()
+{
+  DynamicSparsityPattern pattern(dofs.n_dofs());
+  DoFTools::make_sparsity_pattern(dofs, pattern, supports, false);
+  stiffness.reinit(pattern);
+  mass.reinit(pattern);
+
+  const Material &m = description.material;
+  const CrossSection &x = description.section;
+  const std::array<double, 6> D = {m.youngs_modulus * x.area,
+                                   x.shear_factor_y * m.shear_modulus * x.area,
+                                   x.shear_factor_z * m.shear_modulus * x.area,
+                                   m.shear_modulus * x.torsion_constant,
+                                   m.youngs_modulus * x.inertia_y,
+                                   m.youngs_modulus * x.inertia_z};
+  const double rho = m.density;
+
+  const unsigned int p = description.degree, n = fe.n_dofs_per_cell();
+  const QGauss<1> stiffness_rule(p), mass_rule(p + 1);
+  const auto flags = update_values | update_gradients | update_jacobians | update_JxW_values;
+  FEValues<1, 3> fe_stiffness(*map, fe, stiffness_rule, flags), fe_mass(*map, fe, mass_rule, flags);
+  FullMatrix<double> k_cell(n, n), m_cell(n, n);
+  std::vector<types::global_dof_index> cell_dofs(n);
+  std::vector<std::array<double, 6>> B(n);
+
+  auto tangent_at = [](const FEValues<1, 3> &v, unsigned int q) {
+    const auto J = v.jacobian(q);
+    return Tensor<1, 3>({J[0][0], J[1][0], J[2][0]});
+  };
+
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      const auto [s0, s1] = mesh.cell_arc_lengths(cell);
+      k_cell = 0;
+      m_cell = 0;
+
+      // Stiffness integrand: B^T D B.
+      fe_stiffness.reinit(cell);
+      for (unsigned int q = 0; q < stiffness_rule.size(); ++q)
+        {
+          const double s = s0 + (s1 - s0) * stiffness_rule.point(q)[0];
+          const SectionAxes a = section_axes(description, tangent_at(fe_stiffness, q), s);
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int c = fe.system_to_component_index(i).first;
+              B[i] = strains(a, c, fe_stiffness.shape_value_component(i, q, c),
+                             fe_stiffness.shape_grad_component(i, q, c) * a.t);
+            }
+          const double dx = fe_stiffness.JxW(q);
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j <= i; ++j)
+              {
+                double v = 0;
+                for (int k = 0; k < 6; ++k) v += B[i][k] * D[k] * B[j][k];
+                k_cell(i, j) += v * dx;
+              }
+        }
+
+      // Mass integrand: rho A for displacements, rho (Ip t t + Iy y y + Iz z z) for rotations.
+      fe_mass.reinit(cell);
+      for (unsigned int q = 0; q < mass_rule.size(); ++q)
+        {
+          const double s = s0 + (s1 - s0) * mass_rule.point(q)[0];
+          const SectionAxes a = section_axes(description, tangent_at(fe_mass, q), s);
+          const double dx = fe_mass.JxW(q);
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int ci = fe.system_to_component_index(i).first;
+              const double Ni = fe_mass.shape_value_component(i, q, ci);
+              for (unsigned int j = 0; j <= i; ++j)
+                {
+                  const unsigned int cj = fe.system_to_component_index(j).first;
+                  const double NN = Ni * fe_mass.shape_value_component(j, q, cj) * dx;
+                  if (ci < 3 && cj < 3)
+                    m_cell(i, j) += ci == cj ? rho * x.area * NN : 0.0;
+                  else if (ci >= 3 && cj >= 3)
+                    {
+                      const unsigned int u = ci - 3, w = cj - 3;
+                      m_cell(i, j) += rho * NN * (x.polar_inertia * a.t[u] * a.t[w] + x.inertia_y * a.y[u] * a.y[w] +
+                                                  x.inertia_z * a.z[u] * a.z[w]);
+                    }
+                }
+            }
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < i; ++j)
+          {
+            k_cell(j, i) = k_cell(i, j);
+            m_cell(j, i) = m_cell(i, j);
+          }
+      cell->get_dof_indices(cell_dofs);
+      supports.distribute_local_to_global(k_cell, cell_dofs, stiffness);
+      supports.distribute_local_to_global(m_cell, cell_dofs, mass);
+    }
+  stiffness.compress(VectorOperation::add);
+  mass.compress(VectorOperation::add);
+
+  // Supported dofs: keep K's positive diagonal, zero M's, so that their eigenvalues are
+  // infinite and never among the lowest modes.
+  for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+    if (supports.is_constrained(i)) mass.set(i, i, 0.0);
+  mass.compress(VectorOperation::insert);
+}
+} // namespace flextrack::fem

@@ -1,0 +1,80 @@
+// A smooth spatial curve y(s), parametrised by arc length s in [0, L] (metres).
+//
+// Curves come in two forms (seed eq. 44): type II is given in arc length directly; type I in a
+// general parameter t, which is converted numerically: s(t) = int |dy/dt| dt, tabulated once by
+// adaptive Gauss-Legendre quadrature to ~1e-15 relative accuracy, and inverted by Newton's
+// method. Derivatives with respect to s come from Taylor jets, so curvature, torsion and their
+// derivatives are exact up to rounding for any curvature (no small-curvature linearisation).
+#pragma once
+
+#include <geometry/taylor.h>
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace flextrack::geometry
+{
+using dealii::Point;
+using Vec3 = dealii::Tensor<1, 3>;
+
+/// The curve's position as jets in its own parameter: y(parameter) with derivatives.
+using CurveFunction = std::function<Jet3(const Jet &parameter)>;
+
+/// Differential geometry of the centre line at one arc length s.
+struct CurveGeometry
+{
+  double s = 0;
+  Point<3> position;
+  Vec3 tangent;                      ///< y'(s), unit
+  std::array<Vec3, 4> derivative;    ///< y^(k+1)(s) for k = 0..3 (derivative[0] = tangent)
+  double curvature = 0;              ///< k = |y''|, 1/m
+  double curvature_rate = 0;         ///< dk/ds, 1/m^2
+  double torsion = 0;                ///< tau, 1/m (0 where k = 0)
+  double torsion_rate = 0;           ///< dtau/ds, 1/m^2
+  Vec3 normal;                       ///< Frenet principal normal y''/k (zero where k = 0)
+  Vec3 binormal;                     ///< tangent x normal (zero where k = 0)
+};
+
+class Curve
+{
+public:
+  /// @p y: the curve on jets of its parameter p in [p_begin, p_end]. When
+  /// @p parameter_is_arc_length is false (type I), arc length is computed numerically.
+  /// @p breakpoints: parameter values where higher derivatives jump (spline knots).
+  Curve(std::string description, CurveFunction y, double p_begin, double p_end,
+        bool parameter_is_arc_length, std::vector<double> breakpoints = {});
+
+  double length() const { return total_length; }
+  /// True if the end point coincides with the start point (a ring).
+  bool is_closed() const { return closed; }
+  const std::string &description() const { return name; }
+
+  Point<3> position(double s) const;
+  /// Jets of the coordinates in arc length around s: derivatives with respect to s.
+  Jet3 arc_length_jet(double s) const;
+  CurveGeometry geometry(double s) const;
+
+  /// Type I conversion: parameter value at arc length s, and arc length at parameter p.
+  double parameter_at(double s) const;
+  double arc_length_at(double p) const;
+
+private:
+  double speed(double p) const;
+  double gauss_integral(double a, double b) const; // int_a^b |y'(p)| dp, 10-point Gauss
+  void tabulate_arc_length(const std::vector<double> &breakpoints);
+  void add_panel(double a, double b, double integral, int depth);
+
+  std::string name;
+  CurveFunction function;
+  double p0, p1;
+  bool arc_length_parameter;
+  // Type I table: panel ends p_table[i] with arc lengths s_table[i].
+  std::vector<double> p_table, s_table;
+  double total_length = 0;
+  bool closed = false;
+};
+} // namespace flextrack::geometry

@@ -1,0 +1,238 @@
+#include <geometry/expression.h>
+
+#include <cctype>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace flextrack::geometry
+{
+namespace
+{
+const std::set<std::string> known_functions = {"sin", "cos", "tan", "exp", "log", "sqrt",
+                                               "sinh", "cosh", "tanh", "atan", "abs"};
+std::string function_list()
+{
+  std::string s;
+  for (const auto &f : known_functions) s += (s.empty() ? "" : " ") + f;
+  return s;
+}
+} // namespace
+
+Expression::Expression(const std::string &text, const std::string &variable,
+                       const std::map<std::string, double> &constants)
+  : source(text), variable_name(variable), constant_values(constants)
+{
+  constant_values.emplace("pi", M_PI);
+  skip_blanks();
+  if (pos == source.size())
+    fail("an expression, but the text is empty");
+  root = parse_sum();
+  skip_blanks();
+  if (pos != source.size())
+    fail("an operator (+ - * / ^) or the end of the expression");
+}
+
+void Expression::fail(const std::string &what) const
+{
+  std::ostringstream m;
+  m << "cannot parse expression \"" << source << "\" at character " << pos + 1 << ": expected "
+    << what;
+  throw ExpressionError(m.str());
+}
+
+void Expression::skip_blanks()
+{
+  while (pos < source.size() && std::isspace(static_cast<unsigned char>(source[pos]))) ++pos;
+}
+
+int Expression::parse_sum()
+{
+  int left = parse_product();
+  for (;;)
+    {
+      skip_blanks();
+      if (pos < source.size() && (source[pos] == '+' || source[pos] == '-'))
+        {
+          const Op op = source[pos++] == '+' ? Op::add : Op::sub;
+          const int right = parse_product();
+          left = add({op, 0, left, right, {}});
+        }
+      else
+        return left;
+    }
+}
+
+int Expression::parse_product()
+{
+  int left = parse_unary();
+  for (;;)
+    {
+      skip_blanks();
+      if (pos < source.size() && (source[pos] == '*' || source[pos] == '/'))
+        {
+          const Op op = source[pos++] == '*' ? Op::mul : Op::div;
+          const int right = parse_unary();
+          left = add({op, 0, left, right, {}});
+        }
+      else
+        return left;
+    }
+}
+
+int Expression::parse_unary()
+{
+  skip_blanks();
+  if (pos < source.size() && (source[pos] == '-' || source[pos] == '+'))
+    {
+      const bool negate = source[pos++] == '-';
+      const int operand = parse_unary();
+      return negate ? add({Op::neg, 0, operand, -1, {}}) : operand;
+    }
+  return parse_power();
+}
+
+int Expression::parse_power()
+{
+  const int base = parse_primary();
+  skip_blanks();
+  if (pos < source.size() && source[pos] == '^')
+    {
+      ++pos;
+      const int exponent = parse_unary(); // right associative: a^b^c = a^(b^c)
+      return add({Op::pow, 0, base, exponent, {}});
+    }
+  return base;
+}
+
+int Expression::parse_primary()
+{
+  skip_blanks();
+  if (pos >= source.size())
+    fail("a number, a name or '('");
+  const char c = source[pos];
+  if (c == '(')
+    {
+      ++pos;
+      const int inner = parse_sum();
+      skip_blanks();
+      if (pos >= source.size() || source[pos] != ')')
+        fail("')'");
+      ++pos;
+      return inner;
+    }
+  if (std::isdigit(static_cast<unsigned char>(c)) || c == '.')
+    {
+      const char *begin = source.c_str() + pos;
+      char *end = nullptr;
+      const double v = std::strtod(begin, &end);
+      if (end == begin)
+        fail("a number");
+      pos += static_cast<std::size_t>(end - begin);
+      return add({Op::constant, v, -1, -1, {}});
+    }
+  if (std::isalpha(static_cast<unsigned char>(c)) || c == '_')
+    {
+      const std::size_t start = pos;
+      while (pos < source.size() &&
+             (std::isalnum(static_cast<unsigned char>(source[pos])) || source[pos] == '_'))
+        ++pos;
+      const std::string name = source.substr(start, pos - start);
+      skip_blanks();
+      if (pos < source.size() && source[pos] == '(')
+        {
+          if (known_functions.count(name) == 0)
+            {
+              pos = start;
+              fail("a known function (" + function_list() + "), not \"" + name + "\"");
+            }
+          ++pos;
+          const int argument = parse_sum();
+          skip_blanks();
+          if (pos >= source.size() || source[pos] != ')')
+            fail("')' after the argument of " + name);
+          ++pos;
+          return add({Op::func, 0, argument, -1, name});
+        }
+      if (name == variable_name)
+        return add({Op::variable, 0, -1, -1, {}});
+      if (const auto it = constant_values.find(name); it != constant_values.end())
+        return add({Op::constant, it->second, -1, -1, {}});
+      pos = start;
+      fail("the variable \"" + variable_name + "\", pi or a declared constant, not the unknown name \"" +
+           name + "\"");
+    }
+  fail("a number, a name or '(' (found '" + std::string(1, c) + "')");
+}
+
+Jet Expression::evaluate(const Jet &x) const { return evaluate_node(root, x); }
+
+Jet Expression::evaluate_node(const int index, const Jet &x) const
+{
+  const Node &n = nodes[index];
+  switch (n.op)
+    {
+      case Op::constant: return Jet::constant(n.value);
+      case Op::variable: return x;
+      case Op::add: return evaluate_node(n.a, x) + evaluate_node(n.b, x);
+      case Op::sub: return evaluate_node(n.a, x) - evaluate_node(n.b, x);
+      case Op::mul: return evaluate_node(n.a, x) * evaluate_node(n.b, x);
+      case Op::div: return evaluate_node(n.a, x) / evaluate_node(n.b, x);
+      case Op::neg: return -evaluate_node(n.a, x);
+      case Op::pow:
+        {
+          const Jet base = evaluate_node(n.a, x), exponent = evaluate_node(n.b, x);
+          bool constant_exponent = true;
+          for (int k = 1; k <= jet_order; ++k) constant_exponent &= exponent.c[k] == 0.0;
+          return constant_exponent ? pow(base, exponent.c[0]) : exp(exponent * log(base));
+        }
+      case Op::func:
+        {
+          const Jet a = evaluate_node(n.a, x);
+          const std::string &f = n.function;
+          Jet s, c;
+          if (f == "sin" || f == "cos" || f == "tan")
+            {
+              sin_cos(a, s, c);
+              return f == "sin" ? s : f == "cos" ? c : s / c;
+            }
+          if (f == "sinh" || f == "cosh" || f == "tanh")
+            {
+              sin_cos(a, s, c, true);
+              return f == "sinh" ? s : f == "cosh" ? c : s / c;
+            }
+          if (f == "exp") return exp(a);
+          if (f == "log") return log(a);
+          if (f == "sqrt") return sqrt(a);
+          if (f == "atan") return atan(a);
+          if (f == "abs") return a.c[0] < 0 ? -a : a;
+        }
+    }
+  return Jet(); // unreachable: the parser only creates known nodes
+}
+
+std::map<std::string, double> parse_constants(const std::string &text)
+{
+  std::map<std::string, double> result;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ','))
+    {
+      const auto eq = item.find('=');
+      auto trim = [](std::string s) {
+        const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
+        return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+      };
+      if (trim(item).empty()) continue;
+      if (eq == std::string::npos)
+        throw ExpressionError("constant definition \"" + trim(item) + "\" is not of the form name=value");
+      const std::string name = trim(item.substr(0, eq));
+      // A constant's value may use the constants defined before it.
+      const Expression value(trim(item.substr(eq + 1)), "", result);
+      if (name.empty() || !(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_'))
+        throw ExpressionError("constant name \"" + name + "\" must start with a letter");
+      result[name] = value.value(0.0);
+    }
+  return result;
+}
+} // namespace flextrack::geometry

@@ -1,0 +1,105 @@
+#include <io/arm_scene.h>
+#include <io/input_error.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace flextrack::io
+{
+using dealii::ParameterHandler;
+
+void OutputSettings::declare_parameters(ParameterHandler &prm)
+{
+  prm.enter_subsection("Output");
+  prm.declare_entry("Directory", "", dealii::Patterns::Anything(),
+                    "Folder for the results; empty means output/<parameter file name without extension>. "
+                    "The command-line option -o overrides it.");
+  prm.declare_entry("Mode shapes", "true", dealii::Patterns::Bool(),
+                    "Write the mass-normalised mode shapes as VTU files with a PVD index (ParaView).");
+  prm.declare_entry("Subdivisions", "4", dealii::Patterns::Integer(1, 64),
+                    "Subdivisions of each element in the VTU output, so curved elements look curved [-].");
+  prm.leave_subsection();
+}
+
+OutputSettings OutputSettings::parse_parameters(ParameterHandler &prm)
+{
+  OutputSettings s;
+  prm.enter_subsection("Output");
+  s.directory = prm.get("Directory");
+  s.mode_shapes = prm.get_bool("Mode shapes");
+  s.subdivisions = prm.get_integer("Subdivisions");
+  prm.leave_subsection();
+  return s;
+}
+
+void declare_arm_scene(ParameterHandler &prm)
+{
+  fem::Arm::declare_parameters(prm);
+  reduction::ModalSettings::declare_parameters(prm);
+  OutputSettings::declare_parameters(prm);
+}
+
+namespace
+{
+ArmScene build_scene(ParameterHandler &prm, const std::string &file, const std::string &directory)
+{
+  try
+    {
+      ArmScene scene;
+      scene.file = file;
+      scene.arm = fem::Arm::parse_parameters(prm, directory);
+      scene.modal = reduction::ModalSettings::parse_parameters(prm);
+      scene.output = OutputSettings::parse_parameters(prm);
+      return scene;
+    }
+  catch (const InputError &e)
+    {
+      throw e.in_file(file);
+    }
+}
+
+/// deal.II's parse errors carry their explanation in print_info(); keep only that.
+std::string explain(const dealii::ExceptionBase &e)
+{
+  std::ostringstream s;
+  e.print_info(s);
+  std::string text = s.str();
+  for (auto &c : text)
+    if (c == '\n') c = ' ';
+  std::string compact;
+  for (const char c : text)
+    if (!(c == ' ' && !compact.empty() && compact.back() == ' ')) compact += c;
+  return compact;
+}
+} // namespace
+
+ArmScene read_arm_scene(const std::string &file, ParameterHandler &prm)
+{
+  if (!std::filesystem::is_regular_file(file) || !std::ifstream(file))
+    throw InputError("", "cannot open the parameter file (missing or unreadable); give an existing .prm or .json file", file);
+  try
+    {
+      prm.parse_input(file, "", false, true);
+    }
+  catch (const dealii::ExceptionBase &e)
+    {
+      throw InputError("", explain(e), file);
+    }
+  const auto parent = std::filesystem::path(file).parent_path().string();
+  return build_scene(prm, file, parent.empty() ? "." : parent);
+}
+
+ArmScene read_arm_scene_from_string(const std::string &text, ParameterHandler &prm, const std::string &directory)
+{
+  try
+    {
+      prm.parse_input_from_string(text, "", false);
+    }
+  catch (const dealii::ExceptionBase &e)
+    {
+      throw InputError("", explain(e), "<string>");
+    }
+  return build_scene(prm, "<string>", directory);
+}
+} // namespace flextrack::io

@@ -1,0 +1,41 @@
+// A modal-analysis scene: one arm, the eigen solver settings and the output settings, read
+// from a deal.II parameter file (.prm, or .json).
+#pragma once
+
+#include <fem/arm.h>
+#include <reduction/modal_solver.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <string>
+
+namespace flextrack::io
+{
+struct OutputSettings
+{
+  std::string directory;         ///< empty: output/<parameter file stem>
+  bool mode_shapes = true;       ///< write VTU/PVD mode shapes
+  unsigned int subdivisions = 4; ///< patch subdivisions per cell in the VTU files
+
+  static void declare_parameters(dealii::ParameterHandler &prm);
+  static OutputSettings parse_parameters(dealii::ParameterHandler &prm);
+};
+
+struct ArmScene
+{
+  std::string file;
+  fem::Arm arm;
+  reduction::ModalSettings modal;
+  OutputSettings output;
+};
+
+void declare_arm_scene(dealii::ParameterHandler &prm);
+
+/// Parse @p file into @p prm (declared by declare_arm_scene) and build the scene. Throws
+/// InputError naming the file and the entry.
+ArmScene read_arm_scene(const std::string &file, dealii::ParameterHandler &prm);
+
+/// Same, from parameter text (tests); @p directory resolves relative file names.
+ArmScene read_arm_scene_from_string(const std::string &text, dealii::ParameterHandler &prm,
+                                    const std::string &directory = ".");
+} // namespace flextrack::io

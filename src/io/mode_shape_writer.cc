@@ -1,0 +1,42 @@
+#include <io/mode_shape_writer.h>
+
+#include <deal.II/base/data_out_base.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace flextrack::io
+{
+using namespace dealii;
+
+std::string write_mode_shapes(const std::string &directory, const DoFHandler<1, 3> &dofs,
+                              const Mapping<1, 3> &mapping, const std::vector<Vector<double>> &shapes, const unsigned int subdivisions)
+{
+  std::vector<std::pair<double, std::string>> series;
+  const std::vector<std::string> names = {"displacement", "displacement", "displacement",
+                                          "rotation",     "rotation",     "rotation"};
+  const std::vector<DataComponentInterpretation::DataComponentInterpretation> kinds(
+    6, DataComponentInterpretation::component_is_part_of_vector);
+  for (std::size_t k = 0; k < shapes.size(); ++k)
+    {
+      DataOut<1, 3> out;
+      out.attach_dof_handler(dofs);
+      out.add_data_vector(shapes[k], names, DataOut<1, 3>::type_dof_data, kinds);
+      out.build_patches(mapping, subdivisions, DataOut<1, 3>::curved_inner_cells);
+      DataOutBase::VtkFlags flags(static_cast<double>(k + 1), static_cast<unsigned int>(k + 1));
+      flags.compression_level = DataOutBase::VtkFlags::best_speed;
+      out.set_flags(flags);
+      std::ostringstream name;
+      name << "mode_shapes_" << std::setw(3) << std::setfill('0') << k + 1 << ".vtu";
+      std::ofstream file(directory + "/" + name.str());
+      out.write_vtu(file);
+      series.emplace_back(static_cast<double>(k + 1), name.str());
+    }
+  const std::string pvd = directory + "/mode_shapes.pvd";
+  std::ofstream file(pvd);
+  DataOutBase::write_pvd_record(file, series);
+  return pvd;
+}
+} // namespace flextrack::io

@@ -1,0 +1,18 @@
+// Mode shapes of an arm as VTU files (one per mode) plus a PVD index that ParaView opens as a
+// series: step k is mode k. Fields: "displacement" (3) and "rotation" (3), mass-normalised.
+#pragma once
+
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/vector.h>
+
+#include <string>
+#include <vector>
+
+namespace flextrack::io
+{
+/// Writes DIR/mode_shapes.pvd and DIR/mode_shapes_NNN.vtu; returns the .pvd path.
+std::string write_mode_shapes(const std::string &directory, const dealii::DoFHandler<1, 3> &dofs,
+                              const dealii::Mapping<1, 3> &mapping,
+                              const std::vector<dealii::Vector<double>> &shapes, unsigned int subdivisions);
+} // namespace flextrack::io

@@ -1,0 +1,177 @@
+#include <io/input_error.h>
+#include <reduction/modal_solver.h>
+
+#include <deal.II/lac/arpack_solver.h> // declares ARPACK's dsaupd_ / dseupd_
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/trilinos_solver.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace flextrack::reduction
+{
+using namespace dealii;
+
+void ModalSettings::declare_parameters(ParameterHandler &prm)
+{
+  prm.enter_subsection("Modal analysis");
+  prm.declare_entry("Number of modes", "10", Patterns::Integer(1),
+                    "How many of the lowest natural modes to compute [-], >= 1 (rigid-body modes count).");
+  prm.declare_entry("Shift", "auto", Patterns::Anything(),
+                    "Spectral shift sigma [rad^2/s^2]: the modes nearest sigma are found. 'auto' = minus the "
+                    "square of an estimate of the first bending frequency, which yields the lowest modes "
+                    "and keeps free structures factorisable.");
+  prm.declare_entry("Tolerance", "1e-12", Patterns::Double(0), "Relative accuracy of the eigenvalues [-].");
+  prm.declare_entry("Maximum iterations", "1000", Patterns::Integer(1), "Maximum Lanczos restarts [-].");
+  prm.leave_subsection();
+}
+
+ModalSettings ModalSettings::parse_parameters(ParameterHandler &prm)
+{
+  ModalSettings s;
+  prm.enter_subsection("Modal analysis");
+  s.n_modes = prm.get_integer("Number of modes");
+  const std::string shift = prm.get("Shift");
+  if (shift != "auto")
+    {
+      try { s.shift = std::stod(shift); }
+      catch (...) { throw InputError("Modal analysis/Shift", "'" + shift + "' is neither 'auto' nor a number [rad^2/s^2]"); }
+    }
+  s.tolerance = prm.get_double("Tolerance");
+  s.max_iterations = prm.get_integer("Maximum iterations");
+  prm.leave_subsection();
+  return s;
+}
+
+std::vector<double> Modes::frequencies_hz() const
+{
+  std::vector<double> f;
+  for (const double l : eigenvalues) f.push_back(std::copysign(std::sqrt(std::abs(l)), l) / (2 * M_PI));
+  return f;
+}
+
+Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
+                   const unsigned int n_free, const ModalSettings &settings, const double shift)
+{
+  unsigned int n = K.m();
+  unsigned int nev = settings.n_modes;
+  if (settings.n_modes >= n_free)
+    throw InputError("Modal analysis/Number of modes",
+                     std::to_string(settings.n_modes) + " modes requested, but the model has only " +
+                       std::to_string(n_free) + " free degrees of freedom; allowed: fewer than " +
+                       std::to_string(n_free) + " (or refine the mesh)");
+
+  // Factorise A = K - sigma M once.
+  TrilinosWrappers::SparseMatrix A;
+  A.copy_from(K);
+  A.add(-shift, M);
+  SolverControl control(1, 0);
+  TrilinosWrappers::SolverDirect direct(control, TrilinosWrappers::SolverDirect::AdditionalData(false, "Amesos_Klu"));
+  try
+    {
+      direct.initialize(A);
+    }
+  catch (const std::exception &e)
+    {
+      std::ostringstream m;
+      m << "the shifted stiffness K - sigma M (sigma = " << shift << " rad^2/s^2) could not be factorised: it is "
+        << "singular. The shift may be an eigenvalue, or the model has a mechanism; change 'Modal analysis/Shift' "
+        << "or the supports.";
+      throw SolverError(m.str());
+    }
+
+  const IndexSet all = complete_index_set(n);
+  TrilinosWrappers::MPI::Vector x(all, MPI_COMM_SELF), b(all, MPI_COMM_SELF);
+  auto apply_mass = [&](const double *in, double *out) {
+    std::copy(in, in + n, b.begin());
+    M.vmult(x, b);
+    std::copy(x.begin(), x.end(), out);
+  };
+  auto apply_inverse = [&](const double *in, double *out) {
+    std::copy(in, in + n, b.begin());
+    direct.solve(x, b);
+    std::copy(x.begin(), x.end(), out);
+  };
+
+  // ARPACK reverse communication, symmetric generalised problem in shift-invert mode.
+  int ncv = std::min<int>(n, std::max(2 * nev + 1, nev + 20));
+  int ldv = n;
+  int ido = 0, info = 1, lworkl = ncv * (ncv + 8);
+  char bmat[2] = "G", which[3] = "LM";
+  double tol = settings.tolerance;
+  // A smooth, deterministic start vector, zero on constrained dofs (M's zero diagonal rows).
+  std::vector<double> resid(n), v(static_cast<std::size_t>(n) * ncv), workd(3 * static_cast<std::size_t>(n)),
+    workl(lworkl);
+  {
+    std::vector<double> ones(n, 1.0), tmp(n);
+    for (unsigned int i = 0; i < n; ++i) ones[i] = 1.0 + 0.1 * std::sin(0.37 * i);
+    apply_mass(ones.data(), tmp.data());
+    apply_inverse(tmp.data(), resid.data());
+  }
+  std::vector<int> iparam(11, 0), ipntr(14, 0);
+  iparam[0] = 1;
+  iparam[2] = settings.max_iterations;
+  iparam[6] = 3;
+  std::vector<double> tmp(n);
+  while (true)
+    {
+      dsaupd_(&ido, bmat, &n, which, &nev, &tol, resid.data(), &ncv, v.data(), &ldv, iparam.data(), ipntr.data(),
+              workd.data(), workl.data(), &lworkl, &info);
+      double *in = workd.data() + ipntr[0] - 1, *out = workd.data() + ipntr[1] - 1;
+      if (ido == -1)
+        {
+          apply_mass(in, tmp.data());
+          apply_inverse(tmp.data(), out);
+        }
+      else if (ido == 1)
+        apply_inverse(workd.data() + ipntr[2] - 1, out);
+      else if (ido == 2)
+        apply_mass(in, out);
+      else
+        break;
+    }
+  if (info == 1)
+    throw SolverError("the Lanczos iteration did not converge in " + std::to_string(settings.max_iterations) +
+                      " restarts; raise 'Modal analysis/Maximum iterations' or 'Tolerance', or move 'Shift' "
+                      "closer to the wanted frequencies");
+  if (info < 0)
+    throw SolverError("ARPACK dsaupd failed with code " + std::to_string(info));
+
+  int rvec = 1, ldz = n;
+  char howmany = 'A';
+  std::vector<int> select(ncv, 1);
+  std::vector<double> lambda(nev), z(static_cast<std::size_t>(n) * nev);
+  double sigma = shift;
+  dseupd_(&rvec, &howmany, select.data(), lambda.data(), z.data(), &ldz, &sigma, bmat, &n, which, &nev, &tol,
+          resid.data(), &ncv, v.data(), &ldv, iparam.data(), ipntr.data(), workd.data(), workl.data(), &lworkl, &info);
+  if (info != 0)
+    throw SolverError("ARPACK dseupd failed with code " + std::to_string(info));
+
+  const unsigned int converged = iparam[4];
+  std::vector<int> order(converged);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return lambda[a] < lambda[b]; });
+  Modes modes;
+  modes.iterations = iparam[2];
+  for (const int k : order)
+    {
+      Vector<double> phi(n);
+      std::copy(z.begin() + static_cast<std::size_t>(k) * n, z.begin() + static_cast<std::size_t>(k + 1) * n, phi.begin());
+      apply_mass(phi.begin(), tmp.data());
+      const double norm = std::sqrt(std::inner_product(phi.begin(), phi.end(), tmp.begin(), 0.0));
+      phi /= norm;
+      // Sign convention: the largest component is positive, so that runs are reproducible.
+      const auto largest = std::max_element(phi.begin(), phi.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+      if (*largest < 0) phi *= -1.0;
+      modes.eigenvalues.push_back(lambda[k]);
+      modes.shapes.push_back(std::move(phi));
+    }
+  if (converged < nev)
+    throw SolverError("only " + std::to_string(converged) + " of " + std::to_string(nev) +
+                      " modes converged; raise 'Modal analysis/Maximum iterations'");
+  return modes;
+}
+} // namespace flextrack::reduction

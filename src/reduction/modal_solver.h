@@ -1,0 +1,50 @@
+// Lowest natural modes of K phi = w^2 M phi by shift-invert Lanczos: ARPACK's implicitly
+// restarted Lanczos (dsaupd, mode 3) on (K - sigma M)^{-1} M, with K - sigma M factorised
+// once by a sparse direct solver (Trilinos Amesos, KLU). The default shift is negative, so free
+// structures (singular K) are factorised safely and their rigid-body modes come out as
+// near-zero frequencies.
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace flextrack::reduction
+{
+struct ModalSettings
+{
+  unsigned int n_modes = 10;
+  /// Shift sigma [rad^2/s^2]; NaN = automatic (minus a bending-frequency estimate squared).
+  double shift = std::numeric_limits<double>::quiet_NaN();
+  double tolerance = 1e-12; ///< ARPACK's relative accuracy of the Ritz values
+  unsigned int max_iterations = 1000;
+
+  static void declare_parameters(dealii::ParameterHandler &prm);
+  static ModalSettings parse_parameters(dealii::ParameterHandler &prm);
+};
+
+struct Modes
+{
+  std::vector<double> eigenvalues;            ///< w^2 [rad^2/s^2], ascending
+  std::vector<dealii::Vector<double>> shapes; ///< mass-normalised: phi^T M phi = 1
+  std::vector<double> frequencies_hz() const; ///< sign(w^2) sqrt(|w^2|) / (2 pi)
+  unsigned int iterations = 0;                ///< Lanczos restarts used
+};
+
+/// The eigen solver failed (no convergence, factorisation failure); what() says what to change.
+class SolverError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// @p n_free: number of unconstrained dofs (at most that many finite modes exist);
+/// @p shift: sigma, must not be an eigenvalue.
+Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
+                   const dealii::TrilinosWrappers::SparseMatrix &M, unsigned int n_free,
+                   const ModalSettings &settings, double shift);
+} // namespace flextrack::reduction
