@@ -44,16 +44,6 @@ void make_directory(const std::string &dir)
     throw InputError("-o / Output/Directory", "cannot create the output folder '" + dir + "': " + ec.message());
 }
 
-/// Automatic shift: minus the squared first clamped-free bending frequency of a straight
-/// beam of the arm's length and section, an estimate of the scale of the lowest modes.
-double automatic_shift(const fem::Arm &arm)
-{
-  const double L = arm.curve->length();
-  const double EI = arm.material.youngs_modulus * std::min(arm.section.inertia_y, arm.section.inertia_z);
-  const double w = 1.875104068711961 * 1.875104068711961 * std::sqrt(EI / (arm.material.density * arm.section.area)) / (L * L);
-  return -w * w;
-}
-
 double peak_memory_mib()
 {
   rusage usage{};
@@ -96,11 +86,9 @@ ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, Timer
   run.n_cells = model->n_cells();
   {
     TimerOutput::Scope t(timer, "eigen solve");
-    const double shift = std::isnan(scene.modal.shift) ? automatic_shift(scene.arm) : scene.modal.shift;
     try
       {
-        run.modes = reduction::lowest_modes(model->stiffness_matrix(), model->mass_matrix(), model->n_free_dofs(),
-                                            scene.modal, shift);
+        run.modes = reduction::lowest_modes(*model, scene.modal);
       }
     catch (const InputError &e)
       {
@@ -233,7 +221,7 @@ int converge(const Options &options)
   const unsigned int n_modes = scene.modal.n_modes;
   std::ostringstream csv;
   csv << "mode,level,elements,dofs,frequency_Hz,change_Hz,observed_order,relative_error_vs_finest,wall_time_s\n";
-  std::cout << "\n  mode level     dofs     frequency [Hz]      change [Hz]   order\n";
+  std::cout << "\n  mode level     dofs      frequency [Hz]     change [Hz]   order\n";
   for (unsigned int m = 0; m < n_modes; ++m)
     for (unsigned int k = 0; k <= K; ++k)
       {
@@ -250,10 +238,13 @@ int converge(const Options &options)
         auto field = [](double v) { return std::isnan(v) ? std::string() : csv_number(v); };
         csv << m + 1 << "," << k << "," << levels[k].n_cells << "," << levels[k].n_dofs << "," << csv_number(fk) << ","
             << field(change) << "," << field(order) << "," << field(error) << "," << csv_number(level_times[k]) << "\n";
-        std::cout << "  " << std::setw(4) << m + 1 << std::setw(6) << k << std::setw(9) << levels[k].n_dofs
-                  << std::setw(19) << std::setprecision(12) << fk << std::setw(17) << std::setprecision(4)
-                  << (std::isnan(change) ? std::string("-") : csv_number(change)) << std::setw(8)
-                  << std::setprecision(3) << (std::isnan(order) ? std::string("-") : csv_number(order)) << "\n";
+        std::ostringstream row;
+        row << std::setw(6) << m + 1 << std::setw(6) << k << std::setw(9) << levels[k].n_dofs << std::setw(20)
+            << std::setprecision(12) << fk << std::setw(16) << std::setprecision(3) << std::scientific;
+        if (std::isnan(change)) row << "-"; else row << change;
+        row << std::setw(8) << std::fixed << std::setprecision(2);
+        if (std::isnan(order)) row << "-"; else row << order;
+        std::cout << row.str() << "\n";
       }
 
   const std::string dir = output_directory(options, scene);

@@ -3,7 +3,7 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
-#include <deal.II/fe/fe_values.h>
+#include <deal.II/base/table.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 
@@ -21,15 +21,11 @@ struct SectionAxes
   Tensor<1, 3> t, y, z;
 };
 
-SectionAxes section_axes(const Arm &arm, const Tensor<1, 3> &tangent, const double s)
+SectionAxes section_axes(const Arm &arm, const double s)
 {
   SectionAxes a;
-  a.t = tangent / tangent.norm();
-  // The exact frame's y axis, made orthogonal to the mapped tangent (they differ by the
-  // geometric error of the mapping only).
-  const Tensor<1, 3> y = arm.frame->y_axis(s);
-  a.y = y - (y * a.t) * a.t;
-  a.y /= a.y.norm();
+  a.t = arm.curve->geometry(s).tangent;
+  a.y = arm.frame->y_axis(s);
   a.z = cross_product_3d(a.t, a.y);
   return a;
 }
@@ -46,7 +42,7 @@ std::array<double, 6> strains(const SectionAxes &a, const unsigned int component
 
 CurvedBeamModel::CurvedBeamModel(const Arm &arm, const unsigned int refinement)
   : description(arm), mesh(arm, refinement), fe(FE_Q<1, 3>(arm.degree), 6),
-    map(std::make_unique<MappingQ<1, 3>>(arm.degree)), dofs(mesh.triangulation())
+    map(std::make_unique<MappingQ<1, 3>>(std::max(arm.degree, 3u))), dofs(mesh.triangulation())
 {
   setup_dofs();
   apply_supports();
@@ -95,36 +91,44 @@ void CurvedBeamModel::assemble()
 
   const unsigned int p = description.degree, n = fe.n_dofs_per_cell();
   const QGauss<1> stiffness_rule(p), mass_rule(p + 1);
-  const auto flags = update_values | update_gradients | update_jacobians | update_JxW_values;
-  FEValues<1, 3> fe_stiffness(*map, fe, stiffness_rule, flags), fe_mass(*map, fe, mass_rule, flags);
+  // Shape functions on the reference cell [0, 1]; a cell spans arc lengths [s0, s1] of the
+  // exact curve, so d/ds = (1 / (s1 - s0)) d/dxi and ds = (s1 - s0) dxi.
+  auto tabulate = [&](const QGauss<1> &rule, Table<2, double> &N, Table<2, double> &dN) {
+    N.reinit(n, rule.size());
+    dN.reinit(n, rule.size());
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int q = 0; q < rule.size(); ++q)
+        {
+          const unsigned int c = fe.system_to_component_index(i).first;
+          N(i, q) = fe.shape_value_component(i, rule.point(q), c);
+          dN(i, q) = fe.shape_grad_component(i, rule.point(q), c)[0];
+        }
+  };
+  Table<2, double> Nk, dNk, Nm, dNm;
+  tabulate(stiffness_rule, Nk, dNk);
+  tabulate(mass_rule, Nm, dNm);
+  std::vector<unsigned int> component(n);
+  for (unsigned int i = 0; i < n; ++i) component[i] = fe.system_to_component_index(i).first;
+
   FullMatrix<double> k_cell(n, n), m_cell(n, n);
   std::vector<types::global_dof_index> cell_dofs(n);
   std::vector<std::array<double, 6>> B(n);
 
-  auto tangent_at = [](const FEValues<1, 3> &v, unsigned int q) {
-    const auto J = v.jacobian(q);
-    return Tensor<1, 3>({J[0][0], J[1][0], J[2][0]});
-  };
-
   for (const auto &cell : dofs.active_cell_iterators())
     {
       const auto [s0, s1] = mesh.cell_arc_lengths(cell);
+      const double h = s1 - s0;
       k_cell = 0;
       m_cell = 0;
 
       // Stiffness integrand: B^T D B.
-      fe_stiffness.reinit(cell);
       for (unsigned int q = 0; q < stiffness_rule.size(); ++q)
         {
-          const double s = s0 + (s1 - s0) * stiffness_rule.point(q)[0];
-          const SectionAxes a = section_axes(description, tangent_at(fe_stiffness, q), s);
+          const double s = s0 + h * stiffness_rule.point(q)[0];
+          const SectionAxes a = section_axes(description, s);
           for (unsigned int i = 0; i < n; ++i)
-            {
-              const unsigned int c = fe.system_to_component_index(i).first;
-              B[i] = strains(a, c, fe_stiffness.shape_value_component(i, q, c),
-                             fe_stiffness.shape_grad_component(i, q, c) * a.t);
-            }
-          const double dx = fe_stiffness.JxW(q);
+            B[i] = strains(a, component[i], Nk(i, q), dNk(i, q) / h);
+          const double dx = h * stiffness_rule.weight(q);
           for (unsigned int i = 0; i < n; ++i)
             for (unsigned int j = 0; j <= i; ++j)
               {
@@ -135,30 +139,25 @@ void CurvedBeamModel::assemble()
         }
 
       // Mass integrand: rho A for displacements, rho (Ip t t + Iy y y + Iz z z) for rotations.
-      fe_mass.reinit(cell);
       for (unsigned int q = 0; q < mass_rule.size(); ++q)
         {
-          const double s = s0 + (s1 - s0) * mass_rule.point(q)[0];
-          const SectionAxes a = section_axes(description, tangent_at(fe_mass, q), s);
-          const double dx = fe_mass.JxW(q);
+          const double s = s0 + h * mass_rule.point(q)[0];
+          const SectionAxes a = section_axes(description, s);
+          const double dx = h * mass_rule.weight(q);
           for (unsigned int i = 0; i < n; ++i)
-            {
-              const unsigned int ci = fe.system_to_component_index(i).first;
-              const double Ni = fe_mass.shape_value_component(i, q, ci);
-              for (unsigned int j = 0; j <= i; ++j)
-                {
-                  const unsigned int cj = fe.system_to_component_index(j).first;
-                  const double NN = Ni * fe_mass.shape_value_component(j, q, cj) * dx;
-                  if (ci < 3 && cj < 3)
-                    m_cell(i, j) += ci == cj ? rho * x.area * NN : 0.0;
-                  else if (ci >= 3 && cj >= 3)
-                    {
-                      const unsigned int u = ci - 3, w = cj - 3;
-                      m_cell(i, j) += rho * NN * (x.polar_inertia * a.t[u] * a.t[w] + x.inertia_y * a.y[u] * a.y[w] +
-                                                  x.inertia_z * a.z[u] * a.z[w]);
-                    }
-                }
-            }
+            for (unsigned int j = 0; j <= i; ++j)
+              {
+                const unsigned int ci = component[i], cj = component[j];
+                const double NN = Nm(i, q) * Nm(j, q) * dx;
+                if (ci < 3 && cj < 3)
+                  m_cell(i, j) += ci == cj ? rho * x.area * NN : 0.0;
+                else if (ci >= 3 && cj >= 3)
+                  {
+                    const unsigned int u = ci - 3, w = cj - 3;
+                    m_cell(i, j) += rho * NN * (x.polar_inertia * a.t[u] * a.t[w] + x.inertia_y * a.y[u] * a.y[w] +
+                                                x.inertia_z * a.z[u] * a.z[w]);
+                  }
+              }
         }
       for (unsigned int i = 0; i < n; ++i)
         for (unsigned int j = 0; j < i; ++j)

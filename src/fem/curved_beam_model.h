@@ -1,16 +1,18 @@
 // Finite element model of a curved, shear-deformable arm (linear Reissner / Timoshenko beam).
 //
 // Unknowns at every node, in global axes: displacement u (3) and small section rotation
-// theta (3). With the tangent t of the (isoparametrically mapped) centre line and l its arc
-// length, the section strains are
+// theta (3). With the exact tangent t(s) of the centre line and its arc length s,
 //     Gamma = u' + t x theta     (axial strain and two shear strains)
 //     kappa = theta'             (twist and two bending curvatures),
 // taken in the section frame (t, y, z) where the constitutive law is diagonal:
 //     D = diag(EA, k_y GA, k_z GA, GJ, E Iy, E Iz).
-// Rigid motions (u = a + w x (x - x0), theta = w) give Gamma = kappa = 0 exactly, so a free
-// arm has six zero-frequency modes. The stiffness uses uniformly reduced Gauss integration
-// (p points for degree p), which removes shear and membrane locking without spurious modes;
-// the consistent mass, with rotary inertia rho diag(Ip, Iy, Iz), uses p + 1 points.
+// The geometry is exact: every cell spans [s0, s1] of the true curve and the integrands use
+// the curve's tangent and section frame at each quadrature point (an isoparametric centre
+// line would cap the convergence of cubic elements at about h^5). Rigid motions are therefore
+// represented up to the interpolation error: a free arm has six near-zero frequencies.
+// The stiffness uses uniformly reduced Gauss integration (p points for degree p), which removes
+// shear and membrane locking without spurious modes; the consistent mass, with rotary inertia
+// rho diag(Ip, Iy, Iz), uses p + 1 points.
 #pragma once
 
 #include <fem/arm.h>
@@ -33,6 +35,7 @@ public:
   const dealii::DoFHandler<1, 3> &dof_handler() const { return dofs; }
   const dealii::Mapping<1, 3> &mapping() const { return *map; }
   const dealii::TrilinosWrappers::SparseMatrix &stiffness_matrix() const { return stiffness; }
+  /// The mapping (degree max(p, 3), on the curve manifold) is used to draw the curved cells.
   /// Consistent mass; rows of supported (constrained) dofs are zero.
   const dealii::TrilinosWrappers::SparseMatrix &mass_matrix() const { return mass; }
   const dealii::AffineConstraints<double> &constraints() const { return supports; }

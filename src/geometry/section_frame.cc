@@ -31,7 +31,12 @@ SectionFrame::SectionFrame(std::shared_ptr<const Curve> c, const Kind kind, cons
   : curve(std::move(c)), frame_kind(kind), reference(ref)
 {
   if (kind != Kind::rotation_minimising)
-    return;
+    {
+      // Check the frame where it will be needed, so that bad input fails before any FE work.
+      for (int i = 0; i <= 1024; ++i)
+        y_axis(curve->length() * i / 1024);
+      return;
+    }
   // Start from the reference vector projected onto the first section plane.
   const CurveGeometry g0 = curve->geometry(0.0);
   Vec3 r = project_to_section(reference, g0.tangent);

@@ -97,7 +97,8 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
   };
 
   // ARPACK reverse communication, symmetric generalised problem in shift-invert mode.
-  int ncv = std::min<int>(n, std::max(2 * nev + 1, nev + 20));
+  // The Krylov space lives in the free dofs (M vanishes on the supported ones).
+  int ncv = std::min<int>(n_free, std::max(2 * nev + 1, nev + 20));
   int ldv = n;
   int ido = 0, info = 1, lworkl = ncv * (ncv + 8);
   char bmat[2] = "G", which[3] = "LM";
@@ -173,5 +174,20 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
     throw SolverError("only " + std::to_string(converged) + " of " + std::to_string(nev) +
                       " modes converged; raise 'Modal analysis/Maximum iterations'");
   return modes;
+}
+
+double automatic_shift(const fem::Arm &arm)
+{
+  const double L = arm.curve->length();
+  const double EI = arm.material.youngs_modulus * std::min(arm.section.inertia_y, arm.section.inertia_z);
+  const double w = 1.875104068711961 * 1.875104068711961 *
+                   std::sqrt(EI / (arm.material.density * arm.section.area)) / (L * L);
+  return -w * w;
+}
+
+Modes lowest_modes(const fem::CurvedBeamModel &model, const ModalSettings &settings)
+{
+  const double shift = std::isnan(settings.shift) ? automatic_shift(model.arm()) : settings.shift;
+  return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift);
 }
 } // namespace flextrack::reduction

@@ -5,6 +5,8 @@
 // near-zero frequencies.
 #pragma once
 
+#include <fem/curved_beam_model.h>
+
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
@@ -47,4 +49,11 @@ public:
 Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
                    const dealii::TrilinosWrappers::SparseMatrix &M, unsigned int n_free,
                    const ModalSettings &settings, double shift);
+
+/// Automatic shift for an arm: minus the squared first clamped-free bending frequency of a
+/// straight beam with the arm's length and section, the scale of the lowest modes [rad^2/s^2].
+double automatic_shift(const fem::Arm &arm);
+
+/// Lowest modes of an arm's FE model, with the settings' shift or the automatic one.
+Modes lowest_modes(const fem::CurvedBeamModel &model, const ModalSettings &settings);
 } // namespace flextrack::reduction

@@ -1,0 +1,172 @@
+// Curve geometry against closed forms of differential geometry.
+#include <fem/cross_section.h>
+#include <geometry/curve_library.h>
+#include <geometry/expression.h>
+#include <geometry/section_frame.h>
+#include <geometry/spline.h>
+#include <io/input_error.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace flextrack::geometry;
+
+namespace
+{
+std::shared_ptr<const Curve> curve_from(const std::string &text)
+{
+  dealii::ParameterHandler prm;
+  declare_curve_parameters(prm);
+  prm.parse_input_from_string(text);
+  return parse_curve(prm, {"Curve", "."});
+}
+
+// |value - reference| <= tol * max(1, |reference|)
+void expect_close(double value, double reference, double tol, const std::string &what)
+{
+  EXPECT_LE(std::abs(value - reference), tol * std::max(1.0, std::abs(reference)))
+    << what << ": " << value << " vs " << reference;
+}
+} // namespace
+
+TEST(Expression, jets_give_exact_derivatives_of_composite_functions)
+{
+  // f(t) = exp(t) sin(t): closed-form derivatives f^(k) = 2^(k/2) exp(t) sin(t + k pi/4).
+  const Expression f("exp(t) * sin(t)", "t");
+  const double t = 0.7;
+  const Jet j = f.jet(t);
+  for (int k = 0; k <= 4; ++k)
+    expect_close(j.derivative(k), std::pow(2.0, k / 2.0) * std::exp(t) * std::sin(t + k * M_PI / 4), 1e-14,
+                 "derivative " + std::to_string(k));
+  // g(t) = sqrt(1 + t^2) / atan(t) + log(t)^2 - t^-1.5: compare with its Taylor series from
+  // a separate route (pow with real exponent and division), at order 1 by central difference
+  // of the exact value with h = 1e-5 (truncation error ~ 1e-10).
+  const Expression g("sqrt(1 + t^2) / atan(t) + log(t)^2 - t^(-1.5) + tanh(t) * cosh(t) / sinh(t)", "t");
+  const double h = 1e-5;
+  expect_close(g.jet(t).derivative(1), (g.value(t + h) - g.value(t - h)) / (2 * h), 1e-8, "g'");
+  // tanh(t) cosh(t) / sinh(t) = 1: all derivatives vanish.
+  const Jet one = Expression("tanh(t) * cosh(t) / sinh(t)", "t").jet(t);
+  for (int k = 1; k <= 4; ++k) expect_close(one.derivative(k), 0.0, 1e-13, "d^k(1)");
+}
+
+TEST(Expression, errors_name_position_and_expectation)
+{
+  try
+    {
+      Expression("sin(t) * (2 +", "t");
+      FAIL() << "no error for an unfinished expression";
+    }
+  catch (const ExpressionError &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("character"), std::string::npos) << e.what();
+    }
+  EXPECT_THROW(Expression("foo(t)", "t"), ExpressionError);
+  EXPECT_THROW(Expression("a * t", "t"), ExpressionError); // a not declared
+  EXPECT_NO_THROW(Expression("a * t", "t", parse_constants("a = 2, b = a^2")));
+  EXPECT_EQ(parse_constants("a = 2, b = a^2").at("b"), 4.0);
+}
+
+TEST(Curve, helix_from_expressions_matches_closed_forms)
+{
+  // Helix (a cos t, a sin t, c t): arc length t sqrt(a^2+c^2), curvature a/(a^2+c^2),
+  // torsion c/(a^2+c^2), both constant (differential geometry; REFERENCES.md sec. 2).
+  // Tolerance 1e-10 (issue 2 acceptance).
+  const double a = 0.5, c = 0.15, w2 = a * a + c * c;
+  const auto curve = curve_from("set Kind = parametric\nsubsection Parametric\n set Constants = a=0.5, c=0.15\n"
+                                " set x(t) = a*cos(t)\n set y(t) = a*sin(t)\n set z(t) = c*t\n"
+                                " set Parameter start = 0\n set Parameter end = 9.42477796076938\nend\n");
+  expect_close(curve->length(), 9.42477796076938 * std::sqrt(w2), 1e-10, "length");
+  for (const double t : {0.0, 0.3, 2.0, 5.5, 9.4})
+    {
+      expect_close(curve->arc_length_at(t), t * std::sqrt(w2), 1e-10, "s(t)");
+      const double s = t * std::sqrt(w2);
+      expect_close(curve->parameter_at(s), t, 1e-10, "t(s)");
+      const CurveGeometry g = curve->geometry(s);
+      expect_close(g.curvature, a / w2, 1e-10, "curvature");
+      expect_close(g.torsion, c / w2, 1e-10, "torsion");
+      expect_close(g.curvature_rate, 0.0, 1e-10, "curvature rate");
+      expect_close(g.torsion_rate, 0.0, 1e-9, "torsion rate");
+      expect_close(g.position[0], a * std::cos(t), 1e-10, "x");
+      expect_close(g.tangent.norm(), 1.0, 1e-14, "|t|");
+    }
+}
+
+TEST(Curve, builtin_helix_is_exact)
+{
+  const auto curve = curve_from("set Kind = helix\nsubsection Helix\n set Radius = 0.5\n set Pitch = 0.4\n"
+                                " set Turns = 2\nend\n");
+  const double a = 0.5, c = 0.4 / (2 * M_PI), w2 = a * a + c * c;
+  expect_close(curve->length(), 4 * M_PI * std::sqrt(w2), 1e-12, "length");
+  const CurveGeometry g = curve->geometry(1.234);
+  expect_close(g.curvature, a / w2, 1e-12, "curvature");
+  expect_close(g.torsion, c / w2, 1e-12, "torsion");
+}
+
+TEST(Curve, ellipse_perimeter_matches_reference)
+{
+  // Perimeter of (2 cos t, sin t): 9.688448220547676 (complete elliptic integral of the second
+  // kind, 4 a E(e), a = 2, e^2 = 3/4; REFERENCES.md sec. 2). Tolerance 1e-10 (issue 2).
+  const auto curve = curve_from("set Kind = parametric\nsubsection Parametric\n set x(t) = 2*cos(t)\n"
+                                " set y(t) = sin(t)\n set z(t) = 0\n set Parameter end = 6.283185307179586\nend\n");
+  expect_close(curve->length(), 9.688448220547676, 1e-10, "perimeter");
+  EXPECT_TRUE(curve->is_closed());
+  // Curvature of the ellipse at t = 0 (vertex on the major axis): a / b^2 = 2.
+  expect_close(curve->geometry(0.0).curvature, 2.0, 1e-10, "curvature at the vertex");
+}
+
+TEST(Curve, arc_length_curve_rejects_general_parameter)
+{
+  EXPECT_THROW(curve_from("set Kind = arc length\nsubsection Arc length\n set x(s) = 2*s\n set Length = 1\nend\n"),
+               flextrack::InputError);
+}
+
+TEST(Curve, spline_through_circle_points_approximates_the_circle)
+{
+  // 129 points on a full circle of radius 1: length 2 pi and curvature 1,
+  // up to the cubic spline's interpolation error (O(h^4) in position, h = 2 pi / 128).
+  std::vector<dealii::Point<3>> pts;
+  for (int i = 0; i <= 128; ++i)
+    pts.emplace_back(std::cos(2 * M_PI * i / 128), std::sin(2 * M_PI * i / 128), 0.0);
+  const auto curve = make_spline_curve(pts);
+  EXPECT_NEAR(curve->length(), 2 * M_PI, 1e-5);
+  EXPECT_NEAR(curve->geometry(M_PI).curvature, 1.0, 1e-3);
+}
+
+TEST(SectionFrame, frenet_frame_is_refused_on_a_straight_line)
+{
+  const auto line = curve_from("set Kind = line\n");
+  const SectionFrame frame(line, SectionFrame::Kind::frenet, Vec3({0, 0, 1}));
+  try
+    {
+      frame.y_axis(0.5);
+      FAIL() << "the Frenet frame of a straight line was accepted";
+    }
+  catch (const FrameError &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("rotation minimising"), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("s = 0.5"), std::string::npos);
+    }
+}
+
+TEST(SectionFrame, rotation_minimising_frame_turns_against_torsion_on_a_helix)
+{
+  // Along a curve, a rotation-minimising frame turns relative to the Frenet frame at the rate
+  // -tau (Bishop, Amer. Math. Monthly 82, 1975): on a helix the angle is -tau s.
+  const auto helix = curve_from("set Kind = helix\n");
+  const SectionFrame rmf(helix, SectionFrame::Kind::rotation_minimising, helix->geometry(0).normal);
+  for (const double s : {0.5, 2.0, 4.0})
+    {
+      const CurveGeometry g = helix->geometry(s);
+      const Vec3 y = rmf.y_axis(s);
+      const double angle = std::atan2(y * g.binormal, y * g.normal);
+      EXPECT_NEAR(angle, -g.torsion * s, 1e-9) << "s = " << s;
+      EXPECT_NEAR(y * g.tangent, 0.0, 1e-14);
+    }
+}
+
+TEST(CrossSection, square_torsion_constant_matches_saint_venant)
+{
+  // Square a x a: J = 0.140577015 a^4 (Saint-Venant; REFERENCES.md sec. 1). Tolerance 1e-8.
+  EXPECT_NEAR(flextrack::fem::CrossSection::rectangle_torsion_constant(0.1, 0.1) / 1e-4, 0.140577015, 1e-8);
+}

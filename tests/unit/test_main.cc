@@ -1,0 +1,12 @@
+// GoogleTest entry point: Trilinos (Epetra) needs MPI to be running.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+int main(int argc, char **argv)
+{
+  MPI_Init(&argc, &argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  const int status = RUN_ALL_TESTS();
+  MPI_Finalize();
+  return status;
+}
