@@ -10,7 +10,9 @@ namespace flextrack::fem
 {
 using dealii::Point;
 
-CurveManifold::CurveManifold(std::shared_ptr<const geometry::Curve> c) : curve(std::move(c))
+CurveManifold::CurveManifold(std::shared_ptr<const geometry::Curve> c,
+                             std::shared_ptr<const std::map<std::array<double, 3>, double>> known)
+  : curve(std::move(c)), known_points(std::move(known))
 {
   const int n = 1025;
   samples.reserve(n);
@@ -20,11 +22,15 @@ CurveManifold::CurveManifold(std::shared_ptr<const geometry::Curve> c) : curve(s
 
 std::unique_ptr<dealii::Manifold<1, 3>> CurveManifold::clone() const
 {
-  return std::make_unique<CurveManifold>(curve);
+  return std::make_unique<CurveManifold>(curve, known_points);
 }
 
 double CurveManifold::pull_back(const Point<3> &p) const
 {
+  // Mesh vertices (the points mappings pull back) are found exactly, without a search.
+  if (known_points)
+    if (const auto it = known_points->find({p[0], p[1], p[2]}); it != known_points->end())
+      return it->second;
   const double L = curve->length();
   std::size_t best = 0;
   for (std::size_t i = 1; i < samples.size(); ++i)
@@ -93,7 +99,10 @@ ArmMesh::ArmMesh(const Arm &arm, const unsigned int refinement) : curve(arm.curv
       cells[c].manifold_id = 0;
     }
   tria.create_triangulation(vertices, cells, dealii::SubCellData());
-  tria.set_manifold(0, CurveManifold(curve));
+  auto known = std::make_shared<std::map<std::array<double, 3>, double>>();
+  for (unsigned int i = 0; i < n_vertices; ++i)
+    known->emplace(std::array<double, 3>{vertices[i][0], vertices[i][1], vertices[i][2]}, vertex_s[i]);
+  tria.set_manifold(0, CurveManifold(curve, known));
 }
 
 std::pair<double, double> ArmMesh::cell_arc_lengths(const dealii::Triangulation<1, 3>::active_cell_iterator &cell) const

@@ -8,6 +8,8 @@
 #include <deal.II/grid/manifold.h>
 #include <deal.II/grid/tria.h>
 
+#include <array>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -18,7 +20,9 @@ namespace flextrack::fem
 class CurveManifold : public dealii::Manifold<1, 3>
 {
 public:
-  explicit CurveManifold(std::shared_ptr<const geometry::Curve> curve);
+  /// @p known: points with their arc lengths (the mesh vertices), looked up before searching.
+  explicit CurveManifold(std::shared_ptr<const geometry::Curve> curve,
+                         std::shared_ptr<const std::map<std::array<double, 3>, double>> known = {});
   std::unique_ptr<dealii::Manifold<1, 3>> clone() const override;
   dealii::Point<3> get_new_point(const dealii::ArrayView<const dealii::Point<3>> &points,
                                  const dealii::ArrayView<const double> &weights) const override;
@@ -27,6 +31,7 @@ public:
 
 private:
   std::shared_ptr<const geometry::Curve> curve;
+  std::shared_ptr<const std::map<std::array<double, 3>, double>> known_points;
   std::vector<dealii::Point<3>> samples; // positions at s_i = i L / (n - 1)
 };
 
