@@ -65,9 +65,49 @@ struct ModalRun
 };
 
 /// Build the model on the given refinement level and solve for its lowest modes.
-ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, TimerOutput &timer,
-                 std::unique_ptr<fem::CurvedBeamModel> *keep_model = nullptr)
+/// The FE model of the scene's structure, kept for output.
+struct Model
 {
+  std::unique_ptr<fem::CurvedBeamModel> arm;
+  std::unique_ptr<fem::SolidModel> solid;
+};
+
+ModalRun analyse_solid(const io::ArmScene &scene, const unsigned int refinement, TimerOutput &timer, Model *keep)
+{
+  std::unique_ptr<fem::SolidModel> model;
+  {
+    TimerOutput::Scope t(timer, "assemble K and M");
+    try
+      {
+        model = std::make_unique<fem::SolidModel>(scene.solid, refinement);
+      }
+    catch (const InputError &e)
+      {
+        throw e.in_file(scene.file);
+      }
+  }
+  ModalRun run;
+  run.n_dofs = model->n_dofs();
+  run.n_free_dofs = model->n_free_dofs();
+  run.n_cells = model->n_cells();
+  {
+    TimerOutput::Scope t(timer, "eigen solve");
+    try
+      {
+        run.modes = reduction::lowest_modes(*model, scene.modal);
+      }
+    catch (const InputError &e)
+      {
+        throw e.in_file(scene.file);
+      }
+  }
+  if (keep) keep->solid = std::move(model);
+  return run;
+}
+
+ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, TimerOutput &timer, Model *keep = nullptr)
+{
+  if (scene.is_solid) return analyse_solid(scene, refinement, timer, keep);
   std::unique_ptr<fem::CurvedBeamModel> model;
   {
     TimerOutput::Scope t(timer, "assemble K and M");
@@ -95,7 +135,7 @@ ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, Timer
         throw e.in_file(scene.file);
       }
   }
-  if (keep_model) *keep_model = std::move(model);
+  if (keep) keep->arm = std::move(model);
   return run;
 }
 
@@ -105,6 +145,23 @@ void write_text(const std::string &path, const std::string &text)
   out << text;
   if (!out)
     throw InputError("-o / Output/Directory", "cannot write '" + path + "'");
+}
+
+std::string describe(const io::ArmScene &scene)
+{
+  std::ostringstream d;
+  if (scene.is_solid)
+    {
+      const char *element[] = {"hex20", "hex8", "hex27"};
+      d << "solid: " << scene.solid.mesh->source << ", " << scene.solid.mesh->triangulation.n_active_cells()
+        << " cells, " << element[static_cast<int>(scene.solid.element)] << " elements, "
+        << scene.solid.gauss_points << "^3 Gauss points";
+    }
+  else
+    d << "arm: " << scene.arm.curve->description() << ", L = " << scene.arm.curve->length() << " m"
+      << (scene.arm.curve->is_closed() ? " (closed)" : "") << ", " << scene.arm.n_elements
+      << " elements of degree " << scene.arm.degree;
+  return d.str();
 }
 
 io::JsonObject timings_json(const TimerOutput &timer)
@@ -134,11 +191,9 @@ int modes(const Options &options)
     TimerOutput::Scope t(timer, "read parameters and geometry");
     scene = io::read_arm_scene(options.file, prm);
   }
-  std::cout << "flextrack modes: " << options.file << "\n  curve: " << scene.arm.curve->description()
-            << ", L = " << scene.arm.curve->length() << " m" << (scene.arm.curve->is_closed() ? " (closed)" : "")
-            << "\n  mesh: " << scene.arm.n_elements << " elements of degree " << scene.arm.degree << std::endl;
+  std::cout << "flextrack modes: " << options.file << "\n  " << describe(scene) << std::endl;
 
-  std::unique_ptr<fem::CurvedBeamModel> model;
+  Model model;
   const ModalRun run = analyse(scene, 0, timer, &model);
   const std::vector<double> f = run.modes.frequencies_hz();
 
@@ -154,18 +209,19 @@ int modes(const Options &options)
     std::ostringstream used;
     prm.print_parameters(used, ParameterHandler::OutputStyle(ParameterHandler::PRM | ParameterHandler::Short));
     write_text(dir + "/parameters_used.prm", used.str());
-    if (scene.output.mode_shapes)
-      io::write_mode_shapes(dir, model->dof_handler(), model->mapping(), run.modes.shapes,
-                            scene.output.subdivisions);
+    if (scene.output.mode_shapes && model.arm)
+      io::write_mode_shapes<1>(dir, model.arm->dof_handler(), model.arm->mapping(), run.modes.shapes,
+                               scene.output.subdivisions);
+    if (scene.output.mode_shapes && model.solid)
+      io::write_mode_shapes<3>(dir, model.solid->dof_handler(), model.solid->mapping(), run.modes.shapes,
+                               std::min(scene.output.subdivisions, 2u));
   }
   io::JsonObject summary;
   summary.add("program", "flextrack " FLEXTRACK_VERSION)
     .add("command", "modes")
     .add("parameter_file", options.file)
-    .add("curve", scene.arm.curve->description())
-    .add("length_m", scene.arm.curve->length())
+    .add("model", describe(scene))
     .add("elements", run.n_cells)
-    .add("element_degree", scene.arm.degree)
     .add("degrees_of_freedom", run.n_dofs)
     .add("free_degrees_of_freedom", run.n_free_dofs)
     .add("frequencies_Hz", f)
@@ -202,8 +258,8 @@ int converge(const Options &options)
     scene = io::read_arm_scene(options.file, prm);
   }
   const unsigned int K = options.refinements;
-  std::cout << "flextrack converge: " << options.file << ", " << K << " refinements of " << scene.arm.n_elements
-            << " elements of degree " << scene.arm.degree << std::endl;
+  std::cout << "flextrack converge: " << options.file << ", " << K << " refinements of\n  " << describe(scene)
+            << std::endl;
 
   std::vector<ModalRun> levels;
   std::vector<double> level_times;
@@ -256,7 +312,7 @@ int converge(const Options &options)
      << "set terminal pngcairo size 900,650\nset output 'convergence.png'\n"
      << "set datafile separator ','\nset logscale xy\nset grid\nset key outside right\n"
      << "set xlabel 'degrees of freedom'\nset ylabel 'relative frequency error vs finest level'\n"
-     << "set title 'Mesh convergence, element degree " << scene.arm.degree << "'\n"
+     << "set title 'Mesh convergence: " << describe(scene) << "' noenhanced\n"
      << "plot for [m=1:" << n_modes << "] 'convergence.csv' using ($1==m && $8 > 0 ? $4 : NaN):8 "
      << "with linespoints title sprintf('mode %d', m)\n";
   write_text(dir + "/convergence.gp", gp.str());

@@ -35,7 +35,11 @@ OutputSettings OutputSettings::parse_parameters(ParameterHandler &prm)
 
 void declare_arm_scene(ParameterHandler &prm)
 {
+  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid"),
+                    "The structure of the scene: 'arm' (a curved beam, subsection Arm) or 'solid' (a 3D body "
+                    "meshed with hexahedra, subsection Solid).");
   fem::Arm::declare_parameters(prm);
+  fem::Solid::declare_parameters(prm);
   reduction::ModalSettings::declare_parameters(prm);
   OutputSettings::declare_parameters(prm);
 }
@@ -48,7 +52,11 @@ ArmScene build_scene(ParameterHandler &prm, const std::string &file, const std::
     {
       ArmScene scene;
       scene.file = file;
-      scene.arm = fem::Arm::parse_parameters(prm, directory);
+      scene.is_solid = prm.get("Model") == "solid";
+      if (scene.is_solid)
+        scene.solid = fem::Solid::parse_parameters(prm, directory);
+      else
+        scene.arm = fem::Arm::parse_parameters(prm, directory);
       scene.modal = reduction::ModalSettings::parse_parameters(prm);
       scene.output = OutputSettings::parse_parameters(prm);
       return scene;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <fem/arm.h>
+#include <fem/solid.h>
 #include <reduction/modal_solver.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -21,10 +22,13 @@ struct OutputSettings
   static OutputSettings parse_parameters(dealii::ParameterHandler &prm);
 };
 
+/// A modal-analysis scene: one structure, either a curved arm or a solid body.
 struct ArmScene
 {
   std::string file;
+  bool is_solid = false; ///< "set Model = solid"
   fem::Arm arm;
+  fem::Solid solid;
   reduction::ModalSettings modal;
   OutputSettings output;
 };

@@ -11,20 +11,22 @@ namespace flextrack::io
 {
 using namespace dealii;
 
-std::string write_mode_shapes(const std::string &directory, const DoFHandler<1, 3> &dofs,
-                              const Mapping<1, 3> &mapping, const std::vector<Vector<double>> &shapes, const unsigned int subdivisions)
+template <int dim>
+std::string write_mode_shapes(const std::string &directory, const DoFHandler<dim, 3> &dofs,
+                              const Mapping<dim, 3> &mapping, const std::vector<Vector<double>> &shapes,
+                              const unsigned int subdivisions)
 {
   std::vector<std::pair<double, std::string>> series;
-  const std::vector<std::string> names = {"displacement", "displacement", "displacement",
-                                          "rotation",     "rotation",     "rotation"};
+  std::vector<std::string> names(3, "displacement");
+  if (dim == 1) names.insert(names.end(), 3, "rotation");
   const std::vector<DataComponentInterpretation::DataComponentInterpretation> kinds(
-    6, DataComponentInterpretation::component_is_part_of_vector);
+    names.size(), DataComponentInterpretation::component_is_part_of_vector);
   for (std::size_t k = 0; k < shapes.size(); ++k)
     {
-      DataOut<1, 3> out;
+      DataOut<dim, 3> out;
       out.attach_dof_handler(dofs);
-      out.add_data_vector(shapes[k], names, DataOut<1, 3>::type_dof_data, kinds);
-      out.build_patches(mapping, subdivisions, DataOut<1, 3>::curved_inner_cells);
+      out.add_data_vector(shapes[k], names, DataOut<dim, 3>::type_dof_data, kinds);
+      out.build_patches(mapping, subdivisions, DataOut<dim, 3>::curved_inner_cells);
       DataOutBase::VtkFlags flags(static_cast<double>(k + 1), static_cast<unsigned int>(k + 1));
       flags.compression_level = DataOutBase::VtkFlags::best_speed;
       out.set_flags(flags);
@@ -39,4 +41,9 @@ std::string write_mode_shapes(const std::string &directory, const DoFHandler<1, 
   DataOutBase::write_pvd_record(file, series);
   return pvd;
 }
+
+template std::string write_mode_shapes<1>(const std::string &, const DoFHandler<1, 3> &, const Mapping<1, 3> &,
+                                          const std::vector<Vector<double>> &, unsigned int);
+template std::string write_mode_shapes<3>(const std::string &, const DoFHandler<3, 3> &, const Mapping<3, 3> &,
+                                          const std::vector<Vector<double>> &, unsigned int);
 } // namespace flextrack::io

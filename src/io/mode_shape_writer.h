@@ -1,5 +1,5 @@
 // Mode shapes of an arm as VTU files (one per mode) plus a PVD index that ParaView opens as a
-// series: step k is mode k. Fields: "displacement" (3) and "rotation" (3), mass-normalised.
+// series: step k is mode k; mass-normalised fields.
 #pragma once
 
 #include <deal.II/dofs/dof_handler.h>
@@ -11,8 +11,10 @@
 
 namespace flextrack::io
 {
-/// Writes DIR/mode_shapes.pvd and DIR/mode_shapes_NNN.vtu; returns the .pvd path.
-std::string write_mode_shapes(const std::string &directory, const dealii::DoFHandler<1, 3> &dofs,
-                              const dealii::Mapping<1, 3> &mapping,
+/// Writes DIR/mode_shapes.pvd and DIR/mode_shapes_NNN.vtu; returns the .pvd path. Arms
+/// (dim = 1) have "displacement" and "rotation", solids (dim = 3) "displacement".
+template <int dim>
+std::string write_mode_shapes(const std::string &directory, const dealii::DoFHandler<dim, 3> &dofs,
+                              const dealii::Mapping<dim, 3> &mapping,
                               const std::vector<dealii::Vector<double>> &shapes, unsigned int subdivisions);
 } // namespace flextrack::io

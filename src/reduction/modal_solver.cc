@@ -190,4 +190,19 @@ Modes lowest_modes(const fem::CurvedBeamModel &model, const ModalSettings &setti
   const double shift = std::isnan(settings.shift) ? automatic_shift(model.arm()) : settings.shift;
   return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift);
 }
+
+double automatic_shift(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M)
+{
+  double largest = 0;
+  for (unsigned int i = 0; i < K.m(); ++i)
+    if (M.diag_element(i) > 0) largest = std::max(largest, K.diag_element(i) / M.diag_element(i));
+  return -1e-6 * largest;
+}
+
+Modes lowest_modes(const fem::SolidModel &model, const ModalSettings &settings)
+{
+  const double shift = std::isnan(settings.shift) ? automatic_shift(model.stiffness_matrix(), model.mass_matrix())
+                                                  : settings.shift;
+  return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift);
+}
 } // namespace flextrack::reduction

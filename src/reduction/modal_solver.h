@@ -6,6 +6,7 @@
 #pragma once
 
 #include <fem/curved_beam_model.h>
+#include <fem/solid_model.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
@@ -56,4 +57,12 @@ double automatic_shift(const fem::Arm &arm);
 
 /// Lowest modes of an arm's FE model, with the settings' shift or the automatic one.
 Modes lowest_modes(const fem::CurvedBeamModel &model, const ModalSettings &settings);
+
+/// Automatic shift for any structure: -1e-6 max_i K_ii / M_ii, a small fraction of the
+/// spectrum's upper end, negative so that free bodies are factorisable [rad^2/s^2].
+double automatic_shift(const dealii::TrilinosWrappers::SparseMatrix &K,
+                       const dealii::TrilinosWrappers::SparseMatrix &M);
+
+/// Lowest modes of a solid body's FE model.
+Modes lowest_modes(const fem::SolidModel &model, const ModalSettings &settings);
 } // namespace flextrack::reduction

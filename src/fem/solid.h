@@ -1,0 +1,38 @@
+// A 3D elastic body meshed with hexahedra, read from "subsection Solid" of a parameter file.
+#pragma once
+
+#include <fem/material.h>
+#include <fem/solid_mesh.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace flextrack::fem
+{
+enum class SolidElement { hex20, hex8, hex27 };
+
+/// Fix displacement components on a node set (by name) or on the plane "x = value" etc.
+struct SolidSupport
+{
+  std::string node_set;      ///< upper-case set name; empty if a plane is given
+  int plane_axis = -1;       ///< 0, 1, 2 for x, y, z planes
+  double plane_position = 0; ///< [m]
+  std::array<bool, 3> fixed{{true, true, true}};
+  std::string text;          ///< as written, for messages
+};
+
+struct Solid
+{
+  std::shared_ptr<const SolidMesh> mesh;
+  Material material;
+  SolidElement element = SolidElement::hex20;
+  unsigned int gauss_points = 3; ///< per direction: 3 = full (as CalculiX C3D20), 2 = reduced
+  std::vector<SolidSupport> supports;
+
+  static void declare_parameters(dealii::ParameterHandler &prm);
+  static Solid parse_parameters(dealii::ParameterHandler &prm, const std::string &directory);
+};
+} // namespace flextrack::fem

@@ -1,0 +1,263 @@
+#include <fem/fe_serendipity.h>
+#include <fem/solid_model.h>
+#include <io/input_error.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+
+#include <set>
+
+namespace flextrack::fem
+{
+using namespace dealii;
+
+namespace
+{
+std::unique_ptr<FESystem<3>> make_element(const SolidElement kind)
+{
+  switch (kind)
+    {
+      case SolidElement::hex8: return std::make_unique<FESystem<3>>(FE_Q<3>(1), 3);
+      case SolidElement::hex27: return std::make_unique<FESystem<3>>(FE_Q<3>(2), 3);
+      default: return std::make_unique<FESystem<3>>(FE_Serendipity<3>(), 3);
+    }
+}
+
+/// Reference coordinates, in the coarse ancestor of @p cell, of the point @p p of @p cell.
+template <typename Iterator>
+Point<3> coarse_coordinates(Iterator cell, Point<3> p)
+{
+  while (cell->level() > 0)
+    {
+      const auto parent = cell->parent();
+      unsigned int child = 0;
+      while (parent->child(child) != cell) ++child;
+      p = GeometryInfo<3>::child_to_cell_coordinates(p, child);
+      cell = parent;
+    }
+  return p;
+}
+} // namespace
+
+SolidModel::SolidModel(const Solid &solid, const unsigned int refinement)
+  : body(solid), level(refinement), geometry_fe(FE_Serendipity<3>(), 3), fe(make_element(solid.element))
+{
+  tria.copy_triangulation(body.mesh->triangulation);
+  // Faces whose nodes all belong to a node set carry a boundary id, inherited on refinement,
+  // so that node sets of whole faces apply on refined meshes too.
+  if (refinement > 0)
+    {
+      types::boundary_id id = 1;
+      for (const auto &[name, nodes] : body.mesh->node_sets)
+        {
+          const std::set<MeshNode> set(nodes.begin(), nodes.end());
+          for (const auto &cell : tria.active_cell_iterators())
+            for (const auto f : cell->face_indices())
+              if (cell->face(f)->at_boundary())
+                {
+                  bool all = true;
+                  for (unsigned int v = 0; v < 4; ++v) all &= set.count(MeshNode{true, cell->face(f)->vertex_index(v), {0, 0}}) > 0;
+                  if (all) cell->face(f)->set_boundary_id(id);
+                }
+          ++id;
+        }
+      tria.refine_global(refinement);
+    }
+  setup_geometry();
+  dofs.reinit(tria);
+  dofs.distribute_dofs(*fe);
+  apply_supports();
+  assemble();
+}
+
+void SolidModel::setup_geometry()
+{
+  // Positions of the 20 geometry nodes of every cell, from its coarse ancestor's 20-node map.
+  geometry_dofs.reinit(tria);
+  geometry_dofs.distribute_dofs(geometry_fe);
+  positions.reinit(geometry_dofs.n_dofs());
+  const SerendipityPolynomials N;
+  const auto reference = SerendipityPolynomials::nodes();
+  const auto &mesh = *body.mesh;
+  std::vector<types::global_dof_index> local(geometry_fe.n_dofs_per_cell());
+  for (const auto &cell : geometry_dofs.active_cell_iterators())
+    {
+      auto coarse = cell;
+      while (coarse->level() > 0) coarse = coarse->parent();
+      std::array<Point<3>, 20> X;
+      for (unsigned int v = 0; v < 8; ++v) X[v] = mesh.triangulation.get_vertices()[coarse->vertex_index(v)];
+      for (unsigned int l = 0; l < 12; ++l)
+        X[8 + l] = mesh.line_midpoint(coarse->line(l)->vertex_index(0), coarse->line(l)->vertex_index(1));
+      cell->get_dof_indices(local);
+      for (unsigned int i = 0; i < local.size(); ++i)
+        {
+          const auto [component, node] = geometry_fe.system_to_component_index(i);
+          const Point<3> p = coarse_coordinates(cell, reference[node]);
+          double x = 0;
+          for (unsigned int j = 0; j < 20; ++j) x += N.compute_value(j, p) * X[j][component];
+          positions[local[i]] = x;
+        }
+    }
+  map = std::make_unique<MappingFEField<3, 3, Vector<double>>>(geometry_dofs, positions);
+}
+
+std::vector<types::global_dof_index> SolidModel::node_dofs(const MeshNode &node) const
+{
+  std::vector<types::global_dof_index> result;
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      if (node.is_vertex)
+        {
+          for (unsigned int v = 0; v < 8; ++v)
+            if (cell->vertex_index(v) == node.vertex)
+              {
+                for (unsigned int c = 0; c < 3; ++c) result.push_back(cell->vertex_dof_index(v, c));
+                return result;
+              }
+        }
+      else if (fe->n_dofs_per_line() > 0)
+        for (unsigned int l = 0; l < 12; ++l)
+          {
+            const auto key = ordered_edge(cell->line(l)->vertex_index(0), cell->line(l)->vertex_index(1));
+            if (key.first == node.edge.first && key.second == node.edge.second)
+              {
+                for (unsigned int c = 0; c < 3; ++c) result.push_back(cell->line(l)->dof_index(c));
+                return result;
+              }
+          }
+    }
+  return result;
+}
+
+std::vector<Point<3>> SolidModel::support_points() const
+{
+  std::vector<Point<3>> points(dofs.n_dofs());
+  DoFTools::map_dofs_to_support_points(*map, dofs, points);
+  return points;
+}
+
+void SolidModel::apply_supports()
+{
+  std::vector<Point<3>> points;
+  double size = 0;
+  for (const auto &v : body.mesh->triangulation.get_vertices()) size = std::max(size, v.norm());
+  auto fix = [&](types::global_dof_index dof) {
+    if (!supports.is_constrained(dof)) supports.add_line(dof);
+  };
+  types::boundary_id id = 1;
+  std::map<std::string, types::boundary_id> set_ids;
+  for (const auto &[name, nodes] : body.mesh->node_sets) set_ids[name] = id++;
+
+  for (const auto &support : body.supports)
+    {
+      if (support.plane_axis >= 0)
+        {
+          if (points.empty()) points = support_points();
+          bool any = false;
+          // Component of every dof: from the cell-local numbering.
+          std::vector<unsigned int> component(dofs.n_dofs());
+          std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+          for (const auto &cell : dofs.active_cell_iterators())
+            {
+              cell->get_dof_indices(local);
+              for (unsigned int i = 0; i < local.size(); ++i) component[local[i]] = fe->system_to_component_index(i).first;
+            }
+          for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+            if (std::abs(points[i][support.plane_axis] - support.plane_position) <= 1e-9 * std::max(size, 1.0) &&
+                support.fixed[component[i]])
+              {
+                fix(i);
+                any = true;
+              }
+          if (!any)
+            throw InputError("Solid/Supports", "the plane in '" + support.text + "' contains no node of " +
+                             body.mesh->source);
+        }
+      else if (level == 0)
+        for (const auto &node : body.mesh->node_sets.at(support.node_set))
+          {
+            const auto node_dof = node_dofs(node);
+            for (unsigned int c = 0; c < node_dof.size(); ++c)
+              if (support.fixed[c]) fix(node_dof[c]);
+          }
+      else
+        {
+          std::vector<bool> mask = {support.fixed[0], support.fixed[1], support.fixed[2]};
+          const IndexSet on_faces =
+            DoFTools::extract_boundary_dofs(dofs, ComponentMask(mask), {set_ids.at(support.node_set)});
+          if (on_faces.n_elements() == 0)
+            throw InputError("Solid/Supports", "node set '" + support.node_set + "' covers no whole face, so it "
+                             "cannot be carried to refined meshes; use a plane support for 'converge'");
+          for (const auto i : on_faces) fix(i);
+        }
+    }
+  supports.close();
+}
+
+void SolidModel::assemble()
+{
+  DynamicSparsityPattern pattern(dofs.n_dofs());
+  DoFTools::make_sparsity_pattern(dofs, pattern, supports, false);
+  stiffness.reinit(pattern);
+  mass.reinit(pattern);
+
+  const Material &m = body.material;
+  const double mu = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
+  const double lambda = m.youngs_modulus * m.poisson_ratio / ((1 + m.poisson_ratio) * (1 - 2 * m.poisson_ratio));
+  const QGauss<3> rule(body.gauss_points);
+  FEValues<3> values(*map, *fe, rule, update_values | update_gradients | update_JxW_values);
+  const unsigned int n = fe->n_dofs_per_cell();
+  FullMatrix<double> k_cell(n, n), m_cell(n, n);
+  std::vector<types::global_dof_index> local(n);
+  std::vector<unsigned int> component(n);
+  for (unsigned int i = 0; i < n; ++i) component[i] = fe->system_to_component_index(i).first;
+
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      values.reinit(cell);
+      k_cell = 0;
+      m_cell = 0;
+      for (unsigned int q = 0; q < rule.size(); ++q)
+        {
+          const double dx = values.JxW(q);
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int ci = component[i];
+              const Tensor<1, 3> gi = values.shape_grad_component(i, q, ci);
+              const double Ni = values.shape_value_component(i, q, ci);
+              for (unsigned int j = 0; j <= i; ++j)
+                {
+                  const unsigned int cj = component[j];
+                  const Tensor<1, 3> gj = values.shape_grad_component(j, q, cj);
+                  // Isotropic elasticity (deal.II step-8): lambda div div + mu (grad + grad^T).
+                  double k = lambda * gi[ci] * gj[cj] + mu * gi[cj] * gj[ci];
+                  if (ci == cj)
+                    {
+                      k += mu * (gi * gj);
+                      m_cell(i, j) += m.density * Ni * values.shape_value_component(j, q, cj) * dx;
+                    }
+                  k_cell(i, j) += k * dx;
+                }
+            }
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < i; ++j)
+          {
+            k_cell(j, i) = k_cell(i, j);
+            m_cell(j, i) = m_cell(i, j);
+          }
+      cell->get_dof_indices(local);
+      supports.distribute_local_to_global(k_cell, local, stiffness);
+      supports.distribute_local_to_global(m_cell, local, mass);
+    }
+  stiffness.compress(VectorOperation::add);
+  mass.compress(VectorOperation::add);
+  for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+    if (supports.is_constrained(i)) mass.set(i, i, 0.0);
+  mass.compress(VectorOperation::insert);
+}
+} // namespace flextrack::fem

@@ -1,0 +1,60 @@
+// Finite element model of a linear elastic 3D body: stiffness and consistent mass assembled
+// into Trilinos matrices, on the 20-node isoparametric geometry of its mesh.
+//
+// Geometry: every cell is mapped by the 20-node serendipity map of its coarse ancestor
+// (MappingFEField over FESystem(FE_Serendipity, 3)), so curved edges read from a file are kept
+// exactly on every refinement level. Unknowns: the displacement (3 components) with the chosen
+// element (hex20, hex8 or hex27). K = int eps(v) : C eps(u) for an isotropic C, M = int rho v.u,
+// both with the chosen Gauss rule (full 3x3x3 for hex20, as CalculiX's C3D20).
+#pragma once
+
+#include <fem/solid.h>
+
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe_field.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+namespace flextrack::fem
+{
+class SolidModel
+{
+public:
+  /// The body's mesh refined @p refinement times (each cell split into 8).
+  SolidModel(const Solid &solid, unsigned int refinement = 0);
+
+  const dealii::DoFHandler<3> &dof_handler() const { return dofs; }
+  const dealii::Mapping<3> &mapping() const { return *map; }
+  const dealii::TrilinosWrappers::SparseMatrix &stiffness_matrix() const { return stiffness; }
+  /// Consistent mass; rows of supported dofs are zero.
+  const dealii::TrilinosWrappers::SparseMatrix &mass_matrix() const { return mass; }
+  const dealii::AffineConstraints<double> &constraints() const { return supports; }
+  unsigned int n_dofs() const { return dofs.n_dofs(); }
+  unsigned int n_free_dofs() const { return dofs.n_dofs() - supports.n_constraints(); }
+  unsigned int n_cells() const { return tria.n_active_cells(); }
+  /// Dof indices (x, y, z) at a node of the coarse mesh (refinement 0 only); empty if the
+  /// element has no dof there (hex8 at a mid-side node).
+  std::vector<dealii::types::global_dof_index> node_dofs(const MeshNode &node) const;
+  /// Positions of all dofs' support points (for planes, loads and checks).
+  std::vector<dealii::Point<3>> support_points() const;
+
+private:
+  void setup_geometry();
+  void apply_supports();
+  void assemble();
+
+  const Solid &body;
+  unsigned int level;
+  dealii::Triangulation<3> tria;
+  dealii::FESystem<3> geometry_fe;
+  dealii::DoFHandler<3> geometry_dofs;
+  dealii::Vector<double> positions;
+  std::unique_ptr<dealii::MappingFEField<3, 3, dealii::Vector<double>>> map;
+  std::unique_ptr<dealii::FESystem<3>> fe;
+  dealii::DoFHandler<3> dofs;
+  dealii::AffineConstraints<double> supports;
+  dealii::TrilinosWrappers::SparseMatrix stiffness, mass;
+};
+} // namespace flextrack::fem
