@@ -1,8 +1,11 @@
 # Runs the default scene (or `converge CONVERGE --refinements 3`) into OUT and requires exit 0
 # and every documented result file.
 file(REMOVE_RECURSE "${OUT}")
+if(NOT REFINEMENTS)
+  set(REFINEMENTS 3)
+endif()
 if(CONVERGE)
-  execute_process(COMMAND ${EXE} converge ${CONVERGE} --refinements 3 -o ${OUT} RESULT_VARIABLE rc)
+  execute_process(COMMAND ${EXE} converge ${CONVERGE} --refinements ${REFINEMENTS} -o ${OUT} RESULT_VARIABLE rc)
   set(expected convergence.csv convergence.png convergence.gp summary.json)
 else()
   # The default scene with no arguments writes to output/helix_arm; run it the same way with -o.

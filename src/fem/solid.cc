@@ -46,7 +46,6 @@ Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &director
       std::string file = prm.get("Mesh file");
       if (!file.empty() && file[0] != '/') file = directory + "/" + file;
       s.mesh = read_abaqus_mesh(file, "Solid/Mesh file");
-      check_jacobians(*s.mesh, "Solid/Mesh file");
     }
   else
     {

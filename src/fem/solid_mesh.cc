@@ -82,6 +82,38 @@ struct RawElement
 };
 } // namespace
 
+namespace
+{
+/// Throws if the 20-node map with nodes @p x (deal.II order) is inverted or degenerate at a
+/// 3x3x3 Gauss point.
+void check_element(const std::array<Point<3>, 20> &x, const std::string &label, const std::string &source,
+                   const std::string &entry)
+{
+  static const SerendipityPolynomials N;
+  static const QGauss<3> gauss(3);
+  {
+    {
+      double smallest = std::numeric_limits<double>::max(), largest = 0;
+      for (unsigned int q = 0; q < gauss.size(); ++q)
+        {
+          Tensor<2, 3> J;
+          for (unsigned int i = 0; i < 20; ++i) J += outer_product(x[i], N.compute_grad(i, gauss.point(q)));
+          smallest = std::min(smallest, determinant(J));
+          largest = std::max(largest, std::abs(determinant(J)));
+        }
+      if (!(smallest > 1e-10 * largest))
+        {
+          std::ostringstream m;
+          m << label << " of '" << source << "' is inverted or degenerate: its Jacobian determinant "
+            << "reaches " << smallest << " (must stay > 0); check its node order (Abaqus: corners 1-4 "
+            << "counter-clockwise, 5-8 above them) and its mid-side node positions";
+          throw InputError(entry, m.str());
+        }
+    }
+  }
+}
+} // namespace
+
 std::unique_ptr<SolidMesh> read_abaqus_mesh(const std::string &file, const std::string &entry)
 {
   std::ifstream in(file);
@@ -222,6 +254,20 @@ std::unique_ptr<SolidMesh> read_abaqus_mesh(const std::string &file, const std::
       for (const long id : ids)
         if (const auto it = node_ref.find(id); it != node_ref.end()) set.push_back(it->second);
     }
+  // Refuse inverted or degenerate elements, naming them, before deal.II sees the mesh.
+  for (std::size_t c = 0; c < cells.size(); ++c)
+    {
+      std::array<Point<3>, 20> x;
+      for (unsigned int v = 0; v < 8; ++v) x[v] = vertices[cells[c].vertices[v]];
+      for (unsigned int l = 0; l < 12; ++l)
+        {
+          const unsigned int a = cells[c].vertices[GeometryInfo<3>::line_to_cell_vertices(l, 0)];
+          const unsigned int b = cells[c].vertices[GeometryInfo<3>::line_to_cell_vertices(l, 1)];
+          const auto it = mesh->midside.find(ordered_edge(a, b));
+          x[8 + l] = it != mesh->midside.end() ? it->second : 0.5 * (vertices[a] + vertices[b]);
+        }
+      check_element(x, mesh->element_labels[c], file, entry);
+    }
   mesh->triangulation.create_triangulation(vertices, cells, SubCellData());
   return mesh;
 }
@@ -260,35 +306,5 @@ std::unique_ptr<SolidMesh> generate_box(const Point<3> &size, const std::array<u
   return mesh;
 }
 
-void check_jacobians(const SolidMesh &mesh, const std::string &entry)
-{
-  const SerendipityPolynomials N;
-  const QGauss<3> gauss(3);
-  std::array<Point<3>, 20> x;
-  unsigned int index = 0;
-  for (const auto &cell : mesh.triangulation.active_cell_iterators())
-    {
-      for (unsigned int v = 0; v < 8; ++v) x[v] = cell->vertex(v);
-      for (unsigned int l = 0; l < 12; ++l)
-        x[8 + l] = mesh.line_midpoint(cell->line(l)->vertex_index(0), cell->line(l)->vertex_index(1));
-      double smallest = std::numeric_limits<double>::max(), largest = 0;
-      for (unsigned int q = 0; q < gauss.size(); ++q)
-        {
-          Tensor<2, 3> J;
-          for (unsigned int i = 0; i < 20; ++i) J += outer_product(x[i], N.compute_grad(i, gauss.point(q)));
-          smallest = std::min(smallest, determinant(J));
-          largest = std::max(largest, std::abs(determinant(J)));
-        }
-      if (!(smallest > 1e-10 * largest))
-        {
-          const std::string label = index < mesh.element_labels.size() ? mesh.element_labels[index] : "a cell";
-          std::ostringstream m;
-          m << label << " of '" << mesh.source << "' is inverted or degenerate: its Jacobian determinant "
-            << "reaches " << smallest << " (must stay > 0); check its node order (Abaqus: corners 1-4 "
-            << "counter-clockwise, 5-8 above them) and its mid-side node positions";
-          throw InputError(entry, m.str());
-        }
-      ++index;
-    }
-}
+
 } // namespace flextrack::fem

@@ -50,14 +50,12 @@ struct SolidMesh
 
 /// Read an Abaqus / CalculiX input file: *NODE, *ELEMENT (TYPE = C3D8, C3D8R, C3D8I, C3D20,
 /// C3D20R), *NSET (with or without GENERATE). Other keywords are skipped. Elements of any other
-/// type are refused, naming the type, the file and the line. Throws InputError.
+/// type are refused, naming the type, the file and the line; so are inverted or degenerate
+/// elements (Jacobian determinant <= 0 at a 3x3x3 Gauss point). Throws InputError.
 std::unique_ptr<SolidMesh> read_abaqus_mesh(const std::string &file, const std::string &entry);
 
 /// A box [0, Lx] x [0, Ly] x [0, Lz] with nx x ny x nz cells; node sets "xmin", "xmax", "ymin",
 /// "ymax", "zmin", "zmax" hold the nodes of its faces.
 std::unique_ptr<SolidMesh> generate_box(const dealii::Point<3> &size, const std::array<unsigned int, 3> &cells);
 
-/// Check every cell's 20-node Jacobian at the 3x3x3 Gauss points; throws InputError naming the
-/// first inverted or degenerate element.
-void check_jacobians(const SolidMesh &mesh, const std::string &entry);
 } // namespace flextrack::fem

@@ -26,6 +26,9 @@ void ModalSettings::declare_parameters(ParameterHandler &prm)
                     "and keeps free structures factorisable.");
   prm.declare_entry("Tolerance", "1e-12", Patterns::Double(0), "Relative accuracy of the eigenvalues [-].");
   prm.declare_entry("Maximum iterations", "1000", Patterns::Integer(1), "Maximum Lanczos restarts [-].");
+  prm.declare_entry("Direct solver", "auto", Patterns::Selection("auto|klu|mumps"),
+                    "Sparse direct solver that factorises K - sigma M (Trilinos Amesos): 'klu' suits the "
+                    "banded matrices of arms, 'mumps' (multifrontal) the 3D meshes of solids; 'auto' picks so.");
   prm.leave_subsection();
 }
 
@@ -42,6 +45,7 @@ ModalSettings ModalSettings::parse_parameters(ParameterHandler &prm)
     }
   s.tolerance = prm.get_double("Tolerance");
   s.max_iterations = prm.get_integer("Maximum iterations");
+  s.direct_solver = prm.get("Direct solver");
   prm.leave_subsection();
   return s;
 }
@@ -54,7 +58,8 @@ std::vector<double> Modes::frequencies_hz() const
 }
 
 Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
-                   const unsigned int n_free, const ModalSettings &settings, const double shift)
+                   const unsigned int n_free, const ModalSettings &settings, const double shift,
+                   const std::string &amesos_solver)
 {
   unsigned int n = K.m();
   unsigned int nev = settings.n_modes;
@@ -69,7 +74,7 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
   A.copy_from(K);
   A.add(-shift, M);
   SolverControl control(1, 0);
-  TrilinosWrappers::SolverDirect direct(control, TrilinosWrappers::SolverDirect::AdditionalData(false, "Amesos_Klu"));
+  TrilinosWrappers::SolverDirect direct(control, TrilinosWrappers::SolverDirect::AdditionalData(false, amesos_solver));
   try
     {
       direct.initialize(A);
@@ -188,7 +193,8 @@ double automatic_shift(const fem::Arm &arm)
 Modes lowest_modes(const fem::CurvedBeamModel &model, const ModalSettings &settings)
 {
   const double shift = std::isnan(settings.shift) ? automatic_shift(model.arm()) : settings.shift;
-  return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift);
+  return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift,
+                      settings.direct_solver == "mumps" ? "Amesos_Mumps" : "Amesos_Klu");
 }
 
 double automatic_shift(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M)
@@ -203,6 +209,7 @@ Modes lowest_modes(const fem::SolidModel &model, const ModalSettings &settings)
 {
   const double shift = std::isnan(settings.shift) ? automatic_shift(model.stiffness_matrix(), model.mass_matrix())
                                                   : settings.shift;
-  return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift);
+  return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift,
+                      settings.direct_solver == "klu" ? "Amesos_Klu" : "Amesos_Mumps");
 }
 } // namespace flextrack::reduction

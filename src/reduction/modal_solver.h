@@ -25,6 +25,8 @@ struct ModalSettings
   double shift = std::numeric_limits<double>::quiet_NaN();
   double tolerance = 1e-12; ///< ARPACK's relative accuracy of the Ritz values
   unsigned int max_iterations = 1000;
+  /// Sparse direct solver for K - sigma M: "auto" (KLU for arms, MUMPS for solids), "klu", "mumps".
+  std::string direct_solver = "auto";
 
   static void declare_parameters(dealii::ParameterHandler &prm);
   static ModalSettings parse_parameters(dealii::ParameterHandler &prm);
@@ -46,10 +48,10 @@ public:
 };
 
 /// @p n_free: number of unconstrained dofs (at most that many finite modes exist);
-/// @p shift: sigma, must not be an eigenvalue.
+/// @p shift: sigma, must not be an eigenvalue; @p amesos_solver: "Amesos_Klu" or "Amesos_Mumps".
 Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
                    const dealii::TrilinosWrappers::SparseMatrix &M, unsigned int n_free,
-                   const ModalSettings &settings, double shift);
+                   const ModalSettings &settings, double shift, const std::string &amesos_solver);
 
 /// Automatic shift for an arm: minus the squared first clamped-free bending frequency of a
 /// straight beam with the arm's length and section, the scale of the lowest modes [rad^2/s^2].

@@ -135,3 +135,70 @@ TEST(Solid, patch_test_reproduces_a_linear_field_on_a_distorted_mesh)
   std::cout << "  largest nodal error " << worst << " m, field size " << scale << " m\n";
   EXPECT_LT(worst, 1e-10 * scale);
 }
+
+TEST(Solid, slender_block_tip_deflection_and_first_frequency_match_beam_theory)
+{
+  // Steel block L = 2 m, b = h = 0.1 m (L/h = 20), 40 x 2 x 2 hex20 cells, clamped at x = 0
+  // (all displacements of that face fixed), load P = 1 kN along -z spread uniformly over the
+  // end face. Timoshenko beam (Timoshenko & Gere, Mechanics of Materials; Cowper's k for a
+  // rectangle, k = 10 (1 + nu) / (12 + 11 nu)):
+  //   tip deflection = P L^3 / (3 E I) + P L / (k G A).
+  // First bending frequency, Euler-Bernoulli: (1.875104)^2 sqrt(E I / (rho A L^4)) / (2 pi);
+  // shear and rotary inertia lower it by ~0.3 % at L/h = 20. Tolerance 1 % for both (issue 3):
+  // the 3D clamp and the load distribution differ from the beam's idealisation.
+  const double L = 2, b = 0.1, E = 2.1e11, nu = 0.3, G = E / (2 * (1 + nu)), rho = 7850, P = 1000;
+  const double A = b * b, I = b * b * b * b / 12, k = 10 * (1 + nu) / (12 + 11 * nu);
+  auto mesh = std::shared_ptr<const fem::SolidMesh>(fem::generate_box(Point<3>(L, b, b), {40, 2, 2}));
+  const fem::Solid body = steel_body(mesh, "XMIN");
+  const fem::SolidModel model(body);
+
+  // Consistent nodal forces of the traction -P/A e_z on the end face x = L.
+  dealii::Vector<double> f(model.n_dofs());
+  const dealii::QGauss<2> face_rule(3);
+  dealii::FEFaceValues<3> face(model.mapping(), model.dof_handler().get_fe(), face_rule,
+                               dealii::update_values | dealii::update_JxW_values | dealii::update_quadrature_points);
+  std::vector<dealii::types::global_dof_index> local(model.dof_handler().get_fe().n_dofs_per_cell());
+  for (const auto &cell : model.dof_handler().active_cell_iterators())
+    for (const auto fn : cell->face_indices())
+      if (cell->at_boundary(fn) && std::abs(cell->face(fn)->center()[0] - L) < 1e-9)
+        {
+          face.reinit(cell, fn);
+          cell->get_dof_indices(local);
+          for (unsigned int q = 0; q < face_rule.size(); ++q)
+            for (unsigned int i = 0; i < local.size(); ++i)
+              if (model.dof_handler().get_fe().system_to_component_index(i).first == 2)
+                f[local[i]] += -P / A * face.shape_value_component(i, q, 2) * face.JxW(q);
+        }
+  model.constraints().set_zero(f);
+  const auto u = reduction::solve_direct(model.stiffness_matrix(), f);
+  // Mean vertical displacement of the end face's nodes.
+  const auto x = model.support_points();
+  double sum = 0;
+  unsigned int count = 0;
+  std::vector<unsigned int> component(model.n_dofs());
+  for (const auto &cell : model.dof_handler().active_cell_iterators())
+    {
+      cell->get_dof_indices(local);
+      for (unsigned int i = 0; i < local.size(); ++i)
+        component[local[i]] = model.dof_handler().get_fe().system_to_component_index(i).first;
+    }
+  for (unsigned int i = 0; i < model.n_dofs(); ++i)
+    if (std::abs(x[i][0] - L) < 1e-9 && component[i] == 2)
+      {
+        sum += u[i];
+        ++count;
+      }
+  const double tip = -sum / count;
+  const double timoshenko = P * L * L * L / (3 * E * I) + P * L / (k * G * A);
+  std::cout << "  tip deflection " << tip << " m, Timoshenko beam " << timoshenko << " m, rel. diff. "
+            << std::abs(tip - timoshenko) / timoshenko << "\n";
+  EXPECT_LT(std::abs(tip - timoshenko) / timoshenko, 1e-2);
+
+  reduction::ModalSettings settings;
+  settings.n_modes = 1;
+  const double f1 = reduction::lowest_modes(model, settings).frequencies_hz()[0];
+  const double beam = 1.875104068711961 * 1.875104068711961 * std::sqrt(E * I / (rho * A * std::pow(L, 4))) / (2 * M_PI);
+  std::cout << "  first frequency " << f1 << " Hz, Euler-Bernoulli " << beam << " Hz, rel. diff. "
+            << std::abs(f1 - beam) / beam << "\n";
+  EXPECT_LT(std::abs(f1 - beam) / beam, 1e-2);
+}
