@@ -89,15 +89,22 @@ namespace
 void check_element(const std::array<Point<3>, 20> &x, const std::string &label, const std::string &source,
                    const std::string &entry)
 {
-  static const SerendipityPolynomials N;
-  static const QGauss<3> gauss(3);
+  // Shape function gradients at the 27 Gauss points, tabulated once.
+  static const std::vector<std::array<Tensor<1, 3>, 20>> gradients = [] {
+    const SerendipityPolynomials N;
+    const QGauss<3> gauss(3);
+    std::vector<std::array<Tensor<1, 3>, 20>> g(gauss.size());
+    for (unsigned int q = 0; q < gauss.size(); ++q)
+      for (unsigned int i = 0; i < 20; ++i) g[q][i] = N.compute_grad(i, gauss.point(q));
+    return g;
+  }();
   {
     {
       double smallest = std::numeric_limits<double>::max(), largest = 0;
-      for (unsigned int q = 0; q < gauss.size(); ++q)
+      for (const auto &grad : gradients)
         {
           Tensor<2, 3> J;
-          for (unsigned int i = 0; i < 20; ++i) J += outer_product(x[i], N.compute_grad(i, gauss.point(q)));
+          for (unsigned int i = 0; i < 20; ++i) J += outer_product(x[i], grad[i]);
           smallest = std::min(smallest, determinant(J));
           largest = std::max(largest, std::abs(determinant(J)));
         }

@@ -96,6 +96,11 @@ void SolidModel::setup_geometry()
       for (unsigned int i = 0; i < local.size(); ++i)
         {
           const auto [component, node] = geometry_fe.system_to_component_index(i);
+          if (cell->level() == 0) // an unrefined cell's nodes are the mesh nodes
+            {
+              positions[local[i]] = X[node][component];
+              continue;
+            }
           const Point<3> p = coarse_coordinates(cell, reference[node]);
           double x = 0;
           for (unsigned int j = 0; j < 20; ++j) x += N.compute_value(j, p) * X[j][component];
@@ -216,6 +221,10 @@ void SolidModel::assemble()
   std::vector<unsigned int> component(n);
   for (unsigned int i = 0; i < n; ++i) component[i] = fe->system_to_component_index(i).first;
 
+  // The element is primitive (each shape function has one non-zero component): tabulate that
+  // component's value and gradient per quadrature point, then form the integrands.
+  std::vector<double> N(n);
+  std::vector<Tensor<1, 3>> G(n);
   for (const auto &cell : dofs.active_cell_iterators())
     {
       values.reinit(cell);
@@ -226,19 +235,23 @@ void SolidModel::assemble()
           const double dx = values.JxW(q);
           for (unsigned int i = 0; i < n; ++i)
             {
+              N[i] = values.shape_value(i, q);
+              G[i] = values.shape_grad(i, q);
+            }
+          for (unsigned int i = 0; i < n; ++i)
+            {
               const unsigned int ci = component[i];
-              const Tensor<1, 3> gi = values.shape_grad_component(i, q, ci);
-              const double Ni = values.shape_value_component(i, q, ci);
+              const Tensor<1, 3> &gi = G[i];
               for (unsigned int j = 0; j <= i; ++j)
                 {
                   const unsigned int cj = component[j];
-                  const Tensor<1, 3> gj = values.shape_grad_component(j, q, cj);
+                  const Tensor<1, 3> &gj = G[j];
                   // Isotropic elasticity (deal.II step-8): lambda div div + mu (grad + grad^T).
                   double k = lambda * gi[ci] * gj[cj] + mu * gi[cj] * gj[ci];
                   if (ci == cj)
                     {
                       k += mu * (gi * gj);
-                      m_cell(i, j) += m.density * Ni * values.shape_value_component(j, q, cj) * dx;
+                      m_cell(i, j) += m.density * N[i] * N[j] * dx;
                     }
                   k_cell(i, j) += k * dx;
                 }

@@ -1,5 +1,6 @@
 #include <io/input_error.h>
 #include <reduction/modal_solver.h>
+#include <reduction/sparse_factorization.h>
 
 #include <deal.II/lac/arpack_solver.h> // declares ARPACK's dsaupd_ / dseupd_
 #include <deal.II/lac/solver_control.h>
@@ -26,9 +27,10 @@ void ModalSettings::declare_parameters(ParameterHandler &prm)
                     "and keeps free structures factorisable.");
   prm.declare_entry("Tolerance", "1e-12", Patterns::Double(0), "Relative accuracy of the eigenvalues [-].");
   prm.declare_entry("Maximum iterations", "1000", Patterns::Integer(1), "Maximum Lanczos restarts [-].");
-  prm.declare_entry("Direct solver", "auto", Patterns::Selection("auto|klu|mumps"),
-                    "Sparse direct solver that factorises K - sigma M (Trilinos Amesos): 'klu' suits the "
-                    "banded matrices of arms, 'mumps' (multifrontal) the 3D meshes of solids; 'auto' picks so.");
+  prm.declare_entry("Direct solver", "auto", Patterns::Selection("auto|cholmod|mumps|klu"),
+                    "Sparse direct solver that factorises K - sigma M: 'cholmod' (supernodal Cholesky, "
+                    "SuiteSparse; falls back to 'mumps' when K - sigma M is not positive definite), 'mumps' "
+                    "(Trilinos Amesos, symmetric LDL^T), 'klu' (Trilinos Amesos, LU). 'auto' = cholmod.");
   prm.leave_subsection();
 }
 
@@ -70,23 +72,7 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
                        std::to_string(n_free) + " (or refine the mesh)");
 
   // Factorise A = K - sigma M once.
-  TrilinosWrappers::SparseMatrix A;
-  A.copy_from(K);
-  A.add(-shift, M);
-  SolverControl control(1, 0);
-  TrilinosWrappers::SolverDirect direct(control, TrilinosWrappers::SolverDirect::AdditionalData(false, amesos_solver));
-  try
-    {
-      direct.initialize(A);
-    }
-  catch (const std::exception &e)
-    {
-      std::ostringstream m;
-      m << "the shifted stiffness K - sigma M (sigma = " << shift << " rad^2/s^2) could not be factorised: it is "
-        << "singular. The shift may be an eigenvalue, or the model has a mechanism; change 'Modal analysis/Shift' "
-        << "or the supports.";
-      throw SolverError(m.str());
-    }
+  const SparseFactorization factorization(K, M, shift, amesos_solver);
 
   const IndexSet all = complete_index_set(n);
   TrilinosWrappers::MPI::Vector x(all, MPI_COMM_SELF), b(all, MPI_COMM_SELF);
@@ -95,11 +81,7 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
     M.vmult(x, b);
     std::copy(x.begin(), x.end(), out);
   };
-  auto apply_inverse = [&](const double *in, double *out) {
-    std::copy(in, in + n, b.begin());
-    direct.solve(x, b);
-    std::copy(x.begin(), x.end(), out);
-  };
+  auto apply_inverse = [&](const double *in, double *out) { factorization.solve(in, out); };
 
   // ARPACK reverse communication, symmetric generalised problem in shift-invert mode.
   // The Krylov space lives in the free dofs (M vanishes on the supported ones).
@@ -194,7 +176,7 @@ Modes lowest_modes(const fem::CurvedBeamModel &model, const ModalSettings &setti
 {
   const double shift = std::isnan(settings.shift) ? automatic_shift(model.arm()) : settings.shift;
   return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift,
-                      settings.direct_solver == "mumps" ? "Amesos_Mumps" : "Amesos_Klu");
+                      settings.direct_solver == "auto" ? "cholmod" : settings.direct_solver);
 }
 
 double automatic_shift(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M)
@@ -210,6 +192,6 @@ Modes lowest_modes(const fem::SolidModel &model, const ModalSettings &settings)
   const double shift = std::isnan(settings.shift) ? automatic_shift(model.stiffness_matrix(), model.mass_matrix())
                                                   : settings.shift;
   return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift,
-                      settings.direct_solver == "klu" ? "Amesos_Klu" : "Amesos_Mumps");
+                      settings.direct_solver == "auto" ? "cholmod" : settings.direct_solver);
 }
 } // namespace flextrack::reduction

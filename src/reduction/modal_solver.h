@@ -48,7 +48,8 @@ public:
 };
 
 /// @p n_free: number of unconstrained dofs (at most that many finite modes exist);
-/// @p shift: sigma, must not be an eigenvalue; @p amesos_solver: "Amesos_Klu" or "Amesos_Mumps".
+/// @p shift: sigma, must not be an eigenvalue; @p amesos_solver (the direct solver): "cholmod",
+/// "mumps" or "klu".
 Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
                    const dealii::TrilinosWrappers::SparseMatrix &M, unsigned int n_free,
                    const ModalSettings &settings, double shift, const std::string &amesos_solver);

@@ -1,0 +1,44 @@
+// A sparse direct factorisation of a symmetric Trilinos matrix, solved many times (the
+// shift-invert operator). Methods:
+//  - "cholmod": supernodal Cholesky (SuiteSparse CHOLMOD) for positive definite matrices, the
+//    case of every negative shift; if the matrix is not positive definite it falls back to MUMPS;
+//  - "mumps": Trilinos Amesos MUMPS in symmetric mode (LDL^T, multifrontal), any symmetric matrix;
+//  - "klu": Trilinos Amesos KLU (LU), fine for small banded matrices.
+#pragma once
+
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+
+#include <memory>
+#include <string>
+
+class Amesos_BaseSolver;
+class Epetra_LinearProblem;
+class Epetra_Vector;
+
+namespace flextrack::reduction
+{
+class SparseFactorization
+{
+public:
+  /// Factorises A = K - sigma M (K and M share one sparsity pattern). @p method: "cholmod",
+  /// "mumps" or "klu". The Cholesky path builds its input from K and M row by row, without an
+  /// assembled copy of A; the others keep a Trilinos copy of A. Throws SolverError if A is singular.
+  SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
+                      const dealii::TrilinosWrappers::SparseMatrix &M, double sigma, const std::string &method);
+  ~SparseFactorization();
+  /// x = A^{-1} b for arrays of A.m() entries.
+  void solve(const double *b, double *x) const;
+
+private:
+  std::unique_ptr<Epetra_LinearProblem> problem;
+  std::unique_ptr<Epetra_Vector> lhs, rhs;
+  std::unique_ptr<Amesos_BaseSolver> solver;
+  struct Cholmod;
+  std::unique_ptr<Cholmod> cholmod;
+  dealii::TrilinosWrappers::SparseMatrix matrix; // A, for the Amesos solvers only
+  /// Cholesky of A; false if A is not positive definite.
+  bool factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
+                              const dealii::TrilinosWrappers::SparseMatrix &M, double sigma);
+  void factorize_with_amesos(const std::string &method);
+};
+} // namespace flextrack::reduction
