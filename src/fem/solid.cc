@@ -14,8 +14,9 @@ void Solid::declare_parameters(ParameterHandler &prm)
                     "Where the hexahedral mesh comes from: 'box' (generated, see subsection Box) or 'file' "
                     "(Mesh file).");
   prm.declare_entry("Mesh file", "", dealii::Patterns::Anything(),
-                    "Abaqus/CalculiX .inp file with C3D8 or C3D20 hexahedra and *NSET node sets, relative to "
-                    "the parameter file. Coordinates in m.");
+                    "Mesh file, relative to the parameter file, coordinates in m: Abaqus/CalculiX .inp (C3D8 or "
+                    "C3D20 hexahedra, *NSET node sets) or Gmsh .msh (2.2 or 4.1 ASCII; 8- or 20-node hexahedra; "
+                    "physical groups become node sets).");
   prm.enter_subsection("Box");
   prm.declare_entry("Size", "1, 0.1, 0.1", dealii::Patterns::List(dealii::Patterns::Double(0), 3, 3, ","),
                     "Edge lengths Lx, Ly, Lz [m] of the box [0, Lx] x [0, Ly] x [0, Lz]. Its node sets are "
@@ -45,7 +46,7 @@ Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &director
     {
       std::string file = prm.get("Mesh file");
       if (!file.empty() && file[0] != '/') file = directory + "/" + file;
-      s.mesh = read_abaqus_mesh(file, "Solid/Mesh file");
+      s.mesh = read_mesh_file(file, "Solid/Mesh file");
     }
   else
     {

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -121,6 +122,76 @@ void check_element(const std::array<Point<3>, 20> &x, const std::string &label, 
 }
 } // namespace
 
+namespace
+{
+/// Build the mesh from elements given with Abaqus node order (8 corners, then 12 mid-sides or
+/// none), node coordinates and node sets by node id.
+std::unique_ptr<SolidMesh> build_mesh(const std::string &file, const std::string &entry,
+                                      std::map<long, Point<3>> &nodes, const std::vector<RawElement> &elements,
+                                      const std::map<std::string, std::vector<long>> &sets)
+{
+  auto where = [&](int l) { return file + ", line " + std::to_string(l); };
+  auto mesh = std::make_unique<SolidMesh>();
+  mesh->source = file;
+  // Vertices: the corner nodes used by elements, numbered in order of node id.
+  std::map<long, unsigned int> vertex_of;
+  std::vector<Point<3>> vertices;
+  for (const auto &e : elements)
+    for (unsigned int k = 0; k < 8; ++k)
+      {
+        if (!nodes.count(e.nodes[k]))
+          throw InputError(entry, "element " + std::to_string(e.id) + " at " + where(e.line) + " uses node " +
+                           std::to_string(e.nodes[k]) + ", which is not defined under *NODE");
+        if (vertex_of.emplace(e.nodes[k], vertices.size()).second) vertices.push_back(nodes[e.nodes[k]]);
+      }
+  std::vector<CellData<3>> cells(elements.size());
+  std::map<long, MeshNode> node_ref; // file node id -> mesh node
+  for (const auto &[id, v] : vertex_of) node_ref[id] = MeshNode{true, v, {0, 0}};
+  for (std::size_t c = 0; c < elements.size(); ++c)
+    {
+      const auto &e = elements[c];
+      for (unsigned int k = 0; k < 8; ++k) cells[c].vertices[abaqus_to_deal[k]] = vertex_of[e.nodes[k]];
+      for (unsigned int k = 0; k < 12; ++k)
+        {
+          const unsigned int a = vertex_of[e.nodes[abaqus_edges[k][0]]], b = vertex_of[e.nodes[abaqus_edges[k][1]]];
+          const auto key = ordered_edge(a, b);
+          if (e.nodes.size() == 20)
+            {
+              const long mid = e.nodes[8 + k];
+              if (!nodes.count(mid))
+                throw InputError(entry, "element " + std::to_string(e.id) + " at " + where(e.line) + " uses node " +
+                                 std::to_string(mid) + ", which is not defined under *NODE");
+              mesh->midside[key] = nodes[mid];
+              node_ref[mid] = MeshNode{false, 0, key};
+            }
+        }
+      mesh->element_labels.push_back("element " + std::to_string(e.id) + " (" + where(e.line) + ")");
+    }
+  for (const auto &[name, ids] : sets)
+    {
+      auto &set = mesh->node_sets[name];
+      for (const long id : ids)
+        if (const auto it = node_ref.find(id); it != node_ref.end()) set.push_back(it->second);
+    }
+  // Refuse inverted or degenerate elements, naming them, before deal.II sees the mesh.
+  for (std::size_t c = 0; c < cells.size(); ++c)
+    {
+      std::array<Point<3>, 20> x;
+      for (unsigned int v = 0; v < 8; ++v) x[v] = vertices[cells[c].vertices[v]];
+      for (unsigned int l = 0; l < 12; ++l)
+        {
+          const unsigned int a = cells[c].vertices[GeometryInfo<3>::line_to_cell_vertices(l, 0)];
+          const unsigned int b = cells[c].vertices[GeometryInfo<3>::line_to_cell_vertices(l, 1)];
+          const auto it = mesh->midside.find(ordered_edge(a, b));
+          x[8 + l] = it != mesh->midside.end() ? it->second : 0.5 * (vertices[a] + vertices[b]);
+        }
+      check_element(x, mesh->element_labels[c], file, entry);
+    }
+  mesh->triangulation.create_triangulation(vertices, cells, SubCellData());
+  return mesh;
+}
+} // namespace
+
 std::unique_ptr<SolidMesh> read_abaqus_mesh(const std::string &file, const std::string &entry)
 {
   std::ifstream in(file);
@@ -218,65 +289,252 @@ std::unique_ptr<SolidMesh> read_abaqus_mesh(const std::string &file, const std::
     throw InputError(entry, "the element at " + where(pending_line) + " has too few nodes");
   if (elements.empty())
     throw InputError(entry, "'" + file + "' holds no hexahedral elements (*ELEMENT, TYPE=C3D8 or C3D20)");
+  return build_mesh(file, entry, nodes, elements, sets);
+}
 
-  auto mesh = std::make_unique<SolidMesh>();
-  mesh->source = file;
-  // Vertices: the corner nodes used by elements, numbered in order of node id.
-  std::map<long, unsigned int> vertex_of;
-  std::vector<Point<3>> vertices;
-  for (const auto &e : elements)
-    for (unsigned int k = 0; k < 8; ++k)
-      {
-        if (!nodes.count(e.nodes[k]))
-          throw InputError(entry, "element " + std::to_string(e.id) + " at " + where(e.line) + " uses node " +
-                           std::to_string(e.nodes[k]) + ", which is not defined under *NODE");
-        if (vertex_of.emplace(e.nodes[k], vertices.size()).second) vertices.push_back(nodes[e.nodes[k]]);
-      }
-  std::vector<CellData<3>> cells(elements.size());
-  std::map<long, MeshNode> node_ref; // file node id -> mesh node
-  for (const auto &[id, v] : vertex_of) node_ref[id] = MeshNode{true, v, {0, 0}};
-  for (std::size_t c = 0; c < elements.size(); ++c)
+
+namespace
+{
+// Gmsh element types (Gmsh reference manual, "MSH file format"): what they are called.
+std::string gmsh_type_name(const int type)
+{
+  static const std::map<int, std::string> names = {
+    {1, "2-node line"},     {2, "3-node triangle"},     {3, "4-node quadrangle"}, {4, "4-node tetrahedron"},
+    {5, "8-node hexahedron"}, {6, "6-node prism"},      {7, "5-node pyramid"},    {8, "3-node line"},
+    {9, "6-node triangle"}, {10, "9-node quadrangle"},  {11, "10-node tetrahedron"},
+    {12, "27-node hexahedron"}, {13, "18-node prism"},  {14, "14-node pyramid"},  {15, "1-node point"},
+    {16, "8-node quadrangle"}, {17, "20-node hexahedron"}, {18, "15-node prism"}, {19, "13-node pyramid"}};
+  const auto it = names.find(type);
+  return it != names.end() ? it->second : "type " + std::to_string(type);
+}
+// Nodes per element type; 0 for types this reader does not know.
+int gmsh_nodes_per_element(const int type)
+{
+  static const std::map<int, int> n = {{1, 2}, {2, 3}, {3, 4}, {4, 4}, {5, 8}, {6, 6}, {7, 5}, {8, 3}, {9, 6},
+                                       {10, 9}, {11, 10}, {12, 27}, {13, 18}, {14, 14}, {15, 1}, {16, 8},
+                                       {17, 20}, {18, 15}, {19, 13}};
+  const auto it = n.find(type);
+  return it != n.end() ? it->second : 0;
+}
+bool gmsh_is_volume(const int type) { return type == 4 || (type >= 5 && type <= 7) || (type >= 11 && type <= 14) || type >= 17; }
+
+// Gmsh's 20-node hexahedron lists its mid-side nodes on edges (0,1) (0,3) (0,4) (1,2) (1,5)
+// (2,3) (2,6) (3,7) (4,5) (4,7) (5,6) (6,7); Abaqus' order is (0,1) (1,2) (2,3) (3,0) (4,5)
+// (5,6) (6,7) (7,4) (0,4) (1,5) (2,6) (3,7). Corners agree.
+constexpr unsigned int gmsh_to_abaqus_midside[12] = {0, 3, 8, 1, 9, 2, 10, 11, 4, 7, 5, 6};
+
+/// Add a hexahedron (Gmsh order) to the elements, or refuse other volume elements.
+void add_gmsh_element(const long id, const int type, const std::vector<long> &gmsh_nodes, const int line,
+                      const std::string &file, const std::string &entry, std::vector<RawElement> &elements)
+{
+  if (type != 5 && type != 17)
+    throw InputError(entry, "unsupported element: " + gmsh_type_name(type) + " (element " + std::to_string(id) +
+                     ") at " + file + ", line " + std::to_string(line) +
+                     "; allowed volume elements: 8-node and 20-node hexahedra (Gmsh types 5 and 17)");
+  RawElement e{id, line, std::vector<long>(gmsh_nodes.begin(), gmsh_nodes.begin() + 8)};
+  if (type == 17)
     {
-      const auto &e = elements[c];
-      for (unsigned int k = 0; k < 8; ++k) cells[c].vertices[abaqus_to_deal[k]] = vertex_of[e.nodes[k]];
-      for (unsigned int k = 0; k < 12; ++k)
+      e.nodes.resize(20);
+      for (unsigned int m = 0; m < 12; ++m) e.nodes[8 + gmsh_to_abaqus_midside[m]] = gmsh_nodes[8 + m];
+    }
+  elements.push_back(std::move(e));
+}
+} // namespace
+
+std::unique_ptr<SolidMesh> read_gmsh_mesh(const std::string &file, const std::string &entry)
+{
+  std::ifstream in(file);
+  if (!in)
+    throw InputError(entry, "cannot open the mesh file '" + file + "'; give an existing Gmsh .msh file");
+  std::map<long, Point<3>> nodes;
+  std::vector<RawElement> elements;
+  std::map<std::string, std::vector<long>> sets;
+  std::map<std::pair<int, int>, std::string> physical_names;      // (dim, tag) -> name
+  std::map<std::pair<int, int>, std::vector<int>> entity_physicals; // v4: (dim, entity) -> physical tags
+  double version = 0;
+  int line_number = 0;
+  std::string line;
+  auto next_line = [&]() {
+    if (!std::getline(in, line))
+      throw InputError(entry, "'" + file + "' ends early (line " + std::to_string(line_number) + "); it is not a complete Gmsh mesh");
+    ++line_number;
+    return std::istringstream(line);
+  };
+  auto fail = [&](const std::string &what) {
+    throw InputError(entry, "cannot read " + file + ", line " + std::to_string(line_number) + ": " + what);
+  };
+  auto set_name = [&](int dim, int tag) {
+    const auto it = physical_names.find({dim, tag});
+    return it != physical_names.end() ? upper(it->second) : "PHYSICAL_" + std::to_string(tag);
+  };
+  auto add_to_sets = [&](const std::vector<int> &physicals, int dim, const std::vector<long> &element_nodes) {
+    for (const int tag : physicals)
+      {
+        auto &set = sets[set_name(dim, tag)];
+        set.insert(set.end(), element_nodes.begin(), element_nodes.end());
+      }
+  };
+
+  while (std::getline(in, line))
+    {
+      ++line_number;
+      const std::string section = trim(line);
+      if (section == "$MeshFormat")
         {
-          const unsigned int a = vertex_of[e.nodes[abaqus_edges[k][0]]], b = vertex_of[e.nodes[abaqus_edges[k][1]]];
-          const auto key = ordered_edge(a, b);
-          if (e.nodes.size() == 20)
+          auto f = next_line();
+          int binary = 0;
+          f >> version >> binary;
+          if (binary != 0) fail("binary .msh files are not supported; save the mesh as ASCII");
+          if (!(version >= 2 && version < 3) && !(version >= 4.1 && version < 5))
+            fail("MSH format version " + std::to_string(version) + " is not supported; allowed: 2.2 and 4.1 (ASCII)");
+        }
+      else if (section == "$PhysicalNames")
+        {
+          int n = 0;
+          next_line() >> n;
+          for (int i = 0; i < n; ++i)
             {
-              const long mid = e.nodes[8 + k];
-              if (!nodes.count(mid))
-                throw InputError(entry, "element " + std::to_string(e.id) + " at " + where(e.line) + " uses node " +
-                                 std::to_string(mid) + ", which is not defined under *NODE");
-              mesh->midside[key] = nodes[mid];
-              node_ref[mid] = MeshNode{false, 0, key};
+              auto f = next_line();
+              int dim, tag;
+              std::string name;
+              f >> dim >> tag;
+              std::getline(f, name);
+              name = trim(name);
+              if (name.size() >= 2 && name.front() == '"') name = name.substr(1, name.size() - 2);
+              physical_names[{dim, tag}] = name;
             }
         }
-      mesh->element_labels.push_back("element " + std::to_string(e.id) + " (" + where(e.line) + ")");
-    }
-  for (const auto &[name, ids] : sets)
-    {
-      auto &set = mesh->node_sets[name];
-      for (const long id : ids)
-        if (const auto it = node_ref.find(id); it != node_ref.end()) set.push_back(it->second);
-    }
-  // Refuse inverted or degenerate elements, naming them, before deal.II sees the mesh.
-  for (std::size_t c = 0; c < cells.size(); ++c)
-    {
-      std::array<Point<3>, 20> x;
-      for (unsigned int v = 0; v < 8; ++v) x[v] = vertices[cells[c].vertices[v]];
-      for (unsigned int l = 0; l < 12; ++l)
+      else if (section == "$Entities")
         {
-          const unsigned int a = cells[c].vertices[GeometryInfo<3>::line_to_cell_vertices(l, 0)];
-          const unsigned int b = cells[c].vertices[GeometryInfo<3>::line_to_cell_vertices(l, 1)];
-          const auto it = mesh->midside.find(ordered_edge(a, b));
-          x[8 + l] = it != mesh->midside.end() ? it->second : 0.5 * (vertices[a] + vertices[b]);
+          int count[4];
+          auto f = next_line();
+          f >> count[0] >> count[1] >> count[2] >> count[3];
+          for (int dim = 0; dim < 4; ++dim)
+            for (int i = 0; i < count[dim]; ++i)
+              {
+                auto e = next_line();
+                int tag, n_physical;
+                double box;
+                e >> tag;
+                for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) e >> box;
+                e >> n_physical;
+                auto &list = entity_physicals[{dim, tag}];
+                for (int k = 0; k < n_physical; ++k)
+                  {
+                    int physical;
+                    e >> physical;
+                    list.push_back(std::abs(physical));
+                  }
+              }
         }
-      check_element(x, mesh->element_labels[c], file, entry);
+      else if (section == "$Nodes")
+        {
+          if (version < 3)
+            {
+              long n = 0;
+              next_line() >> n;
+              for (long i = 0; i < n; ++i)
+                {
+                  auto f = next_line();
+                  long id;
+                  Point<3> p;
+                  if (!(f >> id >> p[0] >> p[1] >> p[2])) fail("a node line must be 'id x y z'");
+                  nodes[id] = p;
+                }
+            }
+          else
+            {
+              long blocks = 0, n = 0, min_tag, max_tag;
+              next_line() >> blocks >> n >> min_tag >> max_tag;
+              for (long b = 0; b < blocks; ++b)
+                {
+                  int dim, tag, parametric;
+                  long count;
+                  next_line() >> dim >> tag >> parametric >> count;
+                  std::vector<long> ids(count);
+                  for (auto &id : ids) next_line() >> id;
+                  for (const long id : ids)
+                    {
+                      auto f = next_line();
+                      Point<3> p;
+                      if (!(f >> p[0] >> p[1] >> p[2])) fail("a node line must be 'x y z'");
+                      nodes[id] = p;
+                    }
+                }
+            }
+        }
+      else if (section == "$Elements")
+        {
+          if (version < 3)
+            {
+              long n = 0;
+              next_line() >> n;
+              for (long i = 0; i < n; ++i)
+                {
+                  auto f = next_line();
+                  long id;
+                  int type, n_tags;
+                  f >> id >> type >> n_tags;
+                  std::vector<int> tags(n_tags);
+                  for (auto &t : tags) f >> t;
+                  const int per = gmsh_nodes_per_element(type);
+                  if (per == 0) fail("unknown element type " + std::to_string(type));
+                  std::vector<long> element_nodes(per);
+                  for (auto &v : element_nodes)
+                    if (!(f >> v)) fail("element " + std::to_string(id) + " has too few nodes");
+                  if (gmsh_is_volume(type))
+                    add_gmsh_element(id, type, element_nodes, line_number, file, entry, elements);
+                  else if (n_tags > 0 && tags[0] != 0)
+                    add_to_sets({tags[0]}, type == 15 ? 0 : (type == 1 || type == 8) ? 1 : 2, element_nodes);
+                }
+            }
+          else
+            {
+              long blocks = 0, n = 0, min_tag, max_tag;
+              next_line() >> blocks >> n >> min_tag >> max_tag;
+              for (long b = 0; b < blocks; ++b)
+                {
+                  int dim, tag, type;
+                  long count;
+                  next_line() >> dim >> tag >> type >> count;
+                  const int per = gmsh_nodes_per_element(type);
+                  if (per == 0) fail("unknown element type " + std::to_string(type));
+                  for (long i = 0; i < count; ++i)
+                    {
+                      auto f = next_line();
+                      long id;
+                      f >> id;
+                      std::vector<long> element_nodes(per);
+                      for (auto &v : element_nodes)
+                        if (!(f >> v)) fail("element " + std::to_string(id) + " has too few nodes");
+                      if (dim == 3)
+                        add_gmsh_element(id, type, element_nodes, line_number, file, entry, elements);
+                      else if (const auto it = entity_physicals.find({dim, tag}); it != entity_physicals.end())
+                        add_to_sets(it->second, dim, element_nodes);
+                    }
+                }
+            }
+        }
     }
-  mesh->triangulation.create_triangulation(vertices, cells, SubCellData());
-  return mesh;
+  if (version == 0)
+    throw InputError(entry, "'" + file + "' is not a Gmsh mesh (no $MeshFormat section)");
+  if (elements.empty())
+    throw InputError(entry, "'" + file + "' holds no hexahedra (Gmsh element types 5 or 17)");
+  for (auto &[name, ids] : sets)
+    {
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    }
+  return build_mesh(file, entry, nodes, elements, sets);
+}
+
+std::unique_ptr<SolidMesh> read_mesh_file(const std::string &file, const std::string &entry)
+{
+  const std::string extension = upper(std::filesystem::path(file).extension().string());
+  if (extension == ".INP") return read_abaqus_mesh(file, entry);
+  if (extension == ".MSH") return read_gmsh_mesh(file, entry);
+  throw InputError(entry, "cannot tell the format of '" + file + "' from its extension; allowed: .inp "
+                   "(Abaqus/CalculiX) and .msh (Gmsh 2.2 or 4.1, ASCII)");
 }
 
 std::unique_ptr<SolidMesh> generate_box(const Point<3> &size, const std::array<unsigned int, 3> &n)

@@ -54,6 +54,14 @@ struct SolidMesh
 /// elements (Jacobian determinant <= 0 at a 3x3x3 Gauss point). Throws InputError.
 std::unique_ptr<SolidMesh> read_abaqus_mesh(const std::string &file, const std::string &entry);
 
+/// Read a Gmsh mesh (MSH 2.2 or 4.1, ASCII): 8-node (type 5) and 20-node (type 17) hexahedra;
+/// physical groups of points, curves and surfaces become node sets named after the group
+/// (upper case). Other volume elements are refused, naming the type, the file and the line.
+std::unique_ptr<SolidMesh> read_gmsh_mesh(const std::string &file, const std::string &entry);
+
+/// .inp or .msh, by extension.
+std::unique_ptr<SolidMesh> read_mesh_file(const std::string &file, const std::string &entry);
+
 /// A box [0, Lx] x [0, Ly] x [0, Lz] with nx x ny x nz cells; node sets "xmin", "xmax", "ymin",
 /// "ymax", "zmin", "zmax" hold the nodes of its faces.
 std::unique_ptr<SolidMesh> generate_box(const dealii::Point<3> &size, const std::array<unsigned int, 3> &cells);

@@ -202,3 +202,32 @@ TEST(Solid, slender_block_tip_deflection_and_first_frequency_match_beam_theory)
             << std::abs(f1 - beam) / beam << "\n";
   EXPECT_LT(std::abs(f1 - beam) / beam, 1e-2);
 }
+
+TEST(Solid, gmsh_meshes_give_the_frequencies_of_the_same_mesh_in_calculix)
+{
+  // meshes/quarter_ring_hex20.{msh, _v2.msh, inp}: one 20-node mesh written by Gmsh 4.8.4 in
+  // MSH 4.1, MSH 2.2 and Abaqus format (curved edges; physical surface FIX). FlexTrack must read
+  // the two .msh files identically (1e-12), the .inp to 1e-10 (Gmsh writes its coordinates with
+  // fewer digits there), and agree with CalculiX on the .inp (1e-5, issue 3).
+  const std::string dir = work_directory("gmsh");
+  std::filesystem::copy_file(FLEXTRACK_SOURCE_DIR "/meshes/quarter_ring_hex20.inp", dir + "/quarter_ring_hex20.inp",
+                             std::filesystem::copy_options::overwrite_existing);
+  const auto ccx = test_support::run_calculix(dir, "quarter_ring_hex20");
+  ASSERT_EQ(ccx.size(), 10u) << "CalculiX did not run; see " << dir;
+  std::vector<std::vector<double>> f;
+  for (const std::string name : {"quarter_ring_hex20.msh", "quarter_ring_hex20_v2.msh", "quarter_ring_hex20.inp"})
+    {
+      const fem::Solid body = steel_body(fem::read_mesh_file(FLEXTRACK_SOURCE_DIR "/meshes/" + name, "test"));
+      const fem::SolidModel model(body);
+      reduction::ModalSettings settings;
+      f.push_back(reduction::lowest_modes(model, settings).frequencies_hz());
+    }
+  for (unsigned int k = 0; k < 10; ++k)
+    {
+      std::cout << "  mode " << k + 1 << ": msh 4.1 " << std::setprecision(10) << f[0][k] << ", msh 2.2 " << f[1][k]
+                << ", inp " << f[2][k] << ", CalculiX " << ccx[k] << " Hz\n";
+      EXPECT_NEAR(f[1][k], f[0][k], 1e-12 * f[0][k]);
+      EXPECT_NEAR(f[2][k], f[0][k], 1e-10 * f[0][k]);
+      EXPECT_LT(std::abs(f[0][k] - ccx[k]) / ccx[k], 1e-5);
+    }
+}
