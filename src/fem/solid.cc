@@ -10,9 +10,9 @@ using dealii::ParameterHandler;
 void Solid::declare_parameters(ParameterHandler &prm)
 {
   prm.enter_subsection("Solid");
-  prm.declare_entry("Mesh", "box", dealii::Patterns::Selection("box|file"),
-                    "Where the hexahedral mesh comes from: 'box' (generated, see subsection Box) or 'file' "
-                    "(Mesh file).");
+  prm.declare_entry("Mesh", "box", dealii::Patterns::Selection("box|cylinder|file"),
+                    "Where the hexahedral mesh comes from: 'box' or 'cylinder' (generated, see the subsections of "
+                    "those names) or 'file' (Mesh file).");
   prm.declare_entry("Mesh file", "", dealii::Patterns::Anything(),
                     "Mesh file, relative to the parameter file, coordinates in m: Abaqus/CalculiX .inp (C3D8 or "
                     "C3D20 hexahedra, *NSET node sets) or Gmsh .msh (2.2 or 4.1 ASCII; 8- or 20-node hexahedra; "
@@ -23,6 +23,13 @@ void Solid::declare_parameters(ParameterHandler &prm)
                     "XMIN, XMAX, YMIN, YMAX, ZMIN, ZMAX (the nodes of each face).");
   prm.declare_entry("Cells", "10, 1, 1", dealii::Patterns::List(dealii::Patterns::Integer(1), 3, 3, ","),
                     "Number of cells along x, y, z [-].");
+  prm.leave_subsection();
+  prm.enter_subsection("Cylinder");
+  prm.declare_entry("Radius", "0.05", dealii::Patterns::Double(0), "Radius R of the solid cylinder [m], > 0.");
+  prm.declare_entry("Length", "1", dealii::Patterns::Double(0),
+                    "Length L [m]: the axis runs along x from 0 to L. Node sets: HULL, XMIN, XMAX.");
+  prm.declare_entry("Cells along the axis", "10", dealii::Patterns::Integer(1),
+                    "Number of cells along the axis [-]; each cross-section has 5 cells.");
   prm.leave_subsection();
   prm.declare_entry("Element", "hex20", dealii::Patterns::Selection("hex20|hex8|hex27"),
                     "Finite element: 'hex20' (20-node serendipity, seed eq. 30, as CalculiX C3D20), 'hex8' "
@@ -47,6 +54,16 @@ Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &director
       std::string file = prm.get("Mesh file");
       if (!file.empty() && file[0] != '/') file = directory + "/" + file;
       s.mesh = read_mesh_file(file, "Solid/Mesh file");
+    }
+  else if (prm.get("Mesh") == "cylinder")
+    {
+      prm.enter_subsection("Cylinder");
+      const double R = prm.get_double("Radius"), L = prm.get_double("Length");
+      const unsigned int n = prm.get_integer("Cells along the axis");
+      prm.leave_subsection();
+      if (!(R > 0)) throw InputError("Solid/Cylinder/Radius", "must be > 0 m");
+      if (!(L > 0)) throw InputError("Solid/Cylinder/Length", "must be > 0 m");
+      s.mesh = generate_cylinder(R, L, n);
     }
   else
     {

@@ -66,4 +66,8 @@ std::unique_ptr<SolidMesh> read_mesh_file(const std::string &file, const std::st
 /// "ymax", "zmin", "zmax" hold the nodes of its faces.
 std::unique_ptr<SolidMesh> generate_box(const dealii::Point<3> &size, const std::array<unsigned int, 3> &cells);
 
+/// A solid circular cylinder of radius R along x from 0 to L (deal.II's subdivided_cylinder:
+/// 5 cells per cross-section, n_axial along the axis), its hull edges curved (mid-side nodes on
+/// the circle); node sets HULL, XMIN (x = 0), XMAX (x = L).
+std::unique_ptr<SolidMesh> generate_cylinder(double radius, double length, unsigned int n_axial);
 } // namespace flextrack::fem
