@@ -34,9 +34,9 @@ SectionAxes section_axes(const Arm &arm, const double s)
 std::array<double, 6> strains(const SectionAxes &a, const unsigned int component, const double N, const double dN)
 {
   if (component < 3)
-    return {a.t[component] * dN, a.y[component] * dN, a.z[component] * dN, 0, 0, 0};
+    return {{a.t[component] * dN, a.y[component] * dN, a.z[component] * dN, 0, 0, 0}};
   const unsigned int c = component - 3; // t x e_c in section axes: (0, -z_c, y_c)
-  return {0, -a.z[c] * N, a.y[c] * N, a.t[c] * dN, a.y[c] * dN, a.z[c] * dN};
+  return {{0, -a.z[c] * N, a.y[c] * N, a.t[c] * dN, a.y[c] * dN, a.z[c] * dN}};
 }
 } // namespace
 
@@ -81,12 +81,9 @@ void CurvedBeamModel::assemble()
 
   const Material &m = description.material;
   const CrossSection &x = description.section;
-  const std::array<double, 6> D = {m.youngs_modulus * x.area,
-                                   x.shear_factor_y * m.shear_modulus * x.area,
-                                   x.shear_factor_z * m.shear_modulus * x.area,
-                                   m.shear_modulus * x.torsion_constant,
-                                   m.youngs_modulus * x.inertia_y,
-                                   m.youngs_modulus * x.inertia_z};
+  const std::array<double, 6> D = {{m.youngs_modulus * x.area, x.shear_factor_y * m.shear_modulus * x.area,
+                                    x.shear_factor_z * m.shear_modulus * x.area, m.shear_modulus * x.torsion_constant,
+                                    m.youngs_modulus * x.inertia_y, m.youngs_modulus * x.inertia_z}};
   const double rho = m.density;
 
   const unsigned int p = description.degree, n = fe.n_dofs_per_cell();
