@@ -139,8 +139,12 @@ ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, Timer
   return run;
 }
 
+/// Under MPI, the first process writes the text results (every process computes them alike).
+bool is_root() { return Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0; }
+
 void write_text(const std::string &path, const std::string &text)
 {
+  if (!is_root()) return;
   std::ofstream out(path);
   out << text;
   if (!out)
@@ -209,7 +213,7 @@ int modes(const Options &options)
     std::ostringstream used;
     prm.print_parameters(used, ParameterHandler::OutputStyle(ParameterHandler::PRM | ParameterHandler::Short));
     write_text(dir + "/parameters_used.prm", used.str());
-    if (scene.output.mode_shapes && model.arm)
+    if (scene.output.mode_shapes && model.arm && is_root())
       io::write_mode_shapes<1>(dir, model.arm->dof_handler(), model.arm->mapping(), run.modes.shapes,
                                scene.output.subdivisions);
     if (scene.output.mode_shapes && model.solid)
@@ -224,6 +228,7 @@ int modes(const Options &options)
     .add("elements", run.n_cells)
     .add("degrees_of_freedom", run.n_dofs)
     .add("free_degrees_of_freedom", run.n_free_dofs)
+    .add("mpi_processes", Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD))
     .add("frequencies_Hz", f)
     .add("eigenvalues_rad2_per_s2", run.modes.eigenvalues)
     .add("wall_time_s", timings_json(timer))

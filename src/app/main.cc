@@ -25,7 +25,8 @@ const char *usage = R"(flextrack - flexible multibody systems on curved, flexibl
 Usage:
   flextrack                          run the default scene (modal analysis of prm/helix_arm.prm)
   flextrack run FILE.prm [-o DIR]    run a scene (for now: the modal analysis of its arm)
-  flextrack modes FILE.prm [-o DIR]  natural frequencies and mode shapes of the arm in FILE
+  flextrack modes FILE.prm [-o DIR]  natural frequencies and mode shapes of the arm or solid in FILE
+  mpirun -np N flextrack modes ...   the same for a solid, its mesh partitioned over N processes
   flextrack converge FILE.prm --refinements K [-o DIR]
                                      the same on K successively halved meshes, with the change
                                      and observed order of convergence of every frequency
@@ -119,6 +120,10 @@ int main(int argc, char **argv)
   // A singleton MPI process starts much faster when it does not look for a runtime daemon.
   if (!std::getenv("OMPI_COMM_WORLD_SIZE")) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   MPI_Init(&argc, &argv);
+  // Under mpirun every process computes; only the first one talks (errors excepted).
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank != 0) std::cout.rdbuf(nullptr);
   int status = 0;
   try
     {

@@ -44,7 +44,9 @@ Point<3> coarse_coordinates(Iterator cell, Point<3> p)
 } // namespace
 
 SolidModel::SolidModel(const Solid &solid, const unsigned int refinement)
-  : body(solid), level(refinement), geometry_fe(FE_Serendipity<3>(), 3), fe(make_element(solid.element))
+  : body(solid), level(refinement),
+    tria(MPI_COMM_WORLD, Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis),
+    geometry_fe(FE_Serendipity<3>(), 3), fe(make_element(solid.element))
 {
   tria.copy_triangulation(body.mesh->triangulation);
   // Faces whose nodes all belong to a node set carry a boundary id, inherited on refinement,
@@ -140,8 +142,18 @@ std::vector<types::global_dof_index> SolidModel::node_dofs(const MeshNode &node)
 
 std::vector<Point<3>> SolidModel::support_points() const
 {
+  // Every cell is present on every process (shared triangulation): map each cell's unit support
+  // points through the 20-node geometry.
   std::vector<Point<3>> points(dofs.n_dofs());
-  DoFTools::map_dofs_to_support_points(*map, dofs, points);
+  const Quadrature<3> nodes(fe->get_unit_support_points());
+  FEValues<3> values(*map, *fe, nodes, update_quadrature_points);
+  std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      values.reinit(cell);
+      cell->get_dof_indices(local);
+      for (unsigned int i = 0; i < local.size(); ++i) points[local[i]] = values.quadrature_point(i);
+    }
   return points;
 }
 
@@ -205,10 +217,20 @@ void SolidModel::apply_supports()
 
 void SolidModel::assemble()
 {
+  // The pattern of every row from every cell: DoFTools::make_sparsity_pattern would visit only
+  // this process's cells, and miss couplings of its rows through the neighbours' cells.
   DynamicSparsityPattern pattern(dofs.n_dofs());
-  DoFTools::make_sparsity_pattern(dofs, pattern, supports, false);
-  stiffness.reinit(pattern);
-  mass.reinit(pattern);
+  {
+    std::vector<types::global_dof_index> cell_dofs(fe->n_dofs_per_cell());
+    for (const auto &cell : dofs.active_cell_iterators())
+      {
+        cell->get_dof_indices(cell_dofs);
+        supports.add_entries_local_to_global(cell_dofs, pattern, false);
+      }
+  }
+  const IndexSet &owned = dofs.locally_owned_dofs();
+  stiffness.reinit(owned, owned, pattern, MPI_COMM_WORLD);
+  mass.reinit(owned, owned, pattern, MPI_COMM_WORLD);
 
   const Material &m = body.material;
   const double mu = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
@@ -227,6 +249,7 @@ void SolidModel::assemble()
   std::vector<Tensor<1, 3>> G(n);
   for (const auto &cell : dofs.active_cell_iterators())
     {
+      if (!cell->is_locally_owned()) continue;
       values.reinit(cell);
       k_cell = 0;
       m_cell = 0;
@@ -269,7 +292,7 @@ void SolidModel::assemble()
     }
   stiffness.compress(VectorOperation::add);
   mass.compress(VectorOperation::add);
-  for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+  for (const auto i : owned)
     if (supports.is_constrained(i)) mass.set(i, i, 0.0);
   mass.compress(VectorOperation::insert);
 }

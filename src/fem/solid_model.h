@@ -6,10 +6,15 @@
 // exactly on every refinement level. Unknowns: the displacement (3 components) with the chosen
 // element (hex20, hex8 or hex27). K = int eps(v) : C eps(u) for an isotropic C, M = int rho v.u,
 // both with the chosen Gauss rule (full 3x3x3 for hex20, as CalculiX's C3D20).
+//
+// Under MPI the mesh is a parallel::shared::Triangulation partitioned by METIS: every process
+// keeps the whole mesh (and geometry), assembles its own cells, and owns a block of rows of the
+// distributed Trilinos matrices.
 #pragma once
 
 #include <fem/solid.h>
 
+#include <deal.II/distributed/shared_tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe_field.h>
@@ -47,7 +52,7 @@ private:
 
   const Solid &body;
   unsigned int level;
-  dealii::Triangulation<3> tria;
+  dealii::parallel::shared::Triangulation<3> tria;
   dealii::FESystem<3> geometry_fe;
   dealii::DoFHandler<3> geometry_dofs;
   dealii::Vector<double> positions;

@@ -1,6 +1,7 @@
 #include <io/mode_shape_writer.h>
 
 #include <deal.II/base/data_out_base.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/numerics/data_out.h>
 
 #include <fstream>
@@ -30,15 +31,28 @@ std::string write_mode_shapes(const std::string &directory, const DoFHandler<dim
       DataOutBase::VtkFlags flags(static_cast<double>(k + 1), static_cast<unsigned int>(k + 1));
       flags.compression_level = DataOutBase::VtkFlags::best_speed;
       out.set_flags(flags);
-      std::ostringstream name;
-      name << "mode_shapes_" << std::setw(3) << std::setfill('0') << k + 1 << ".vtu";
-      std::ofstream file(directory + "/" + name.str());
-      out.write_vtu(file);
-      series.emplace_back(static_cast<double>(k + 1), name.str());
+      if (dim == 1)
+        {
+          // Arms are computed on one process: one .vtu per mode.
+          std::ostringstream name;
+          name << "mode_shapes_" << std::setw(3) << std::setfill('0') << k + 1 << ".vtu";
+          std::ofstream file(directory + "/" + name.str());
+          out.write_vtu(file);
+          series.emplace_back(static_cast<double>(k + 1), name.str());
+        }
+      else
+        // Solids may be distributed: every process writes the piece of its cells, and a .pvtu
+        // per mode (mode_shapes_NNN.pvtu) collects them. Collective call.
+        series.emplace_back(static_cast<double>(k + 1),
+                            out.write_vtu_with_pvtu_record(directory + "/", "mode_shapes", k + 1,
+                                                           dofs.get_triangulation().get_communicator(), 3));
     }
   const std::string pvd = directory + "/mode_shapes.pvd";
-  std::ofstream file(pvd);
-  DataOutBase::write_pvd_record(file, series);
+  if (Utilities::MPI::this_mpi_process(dofs.get_triangulation().get_communicator()) == 0)
+    {
+      std::ofstream file(pvd);
+      DataOutBase::write_pvd_record(file, series);
+    }
   return pvd;
 }
 

@@ -11,8 +11,9 @@
 
 namespace flextrack::io
 {
-/// Writes DIR/mode_shapes.pvd and DIR/mode_shapes_NNN.vtu; returns the .pvd path. Arms
-/// (dim = 1) have "displacement" and "rotation", solids (dim = 3) "displacement".
+/// Writes DIR/mode_shapes.pvd and, per mode, DIR/mode_shapes_NNN.vtu (arms, dim = 1: fields
+/// "displacement" and "rotation") or DIR/mode_shapes_NNN.pvtu with one piece per process
+/// (solids, dim = 3: "displacement"; a collective call under MPI). Returns the .pvd path.
 template <int dim>
 std::string write_mode_shapes(const std::string &directory, const dealii::DoFHandler<dim, 3> &dofs,
                               const dealii::Mapping<dim, 3> &mapping,

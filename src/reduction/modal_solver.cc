@@ -2,7 +2,8 @@
 #include <reduction/modal_solver.h>
 #include <reduction/sparse_factorization.h>
 
-#include <deal.II/lac/arpack_solver.h> // declares ARPACK's dsaupd_ / dseupd_
+#include <deal.II/base/mpi.h>
+#include <deal.II/lac/parpack_solver.h> // declares PARPACK's pdsaupd_ / pdseupd_
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_solver.h>
 #include <deal.II/lac/trilinos_vector.h>
@@ -63,51 +64,61 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
                    const unsigned int n_free, const ModalSettings &settings, const double shift,
                    const std::string &amesos_solver)
 {
-  unsigned int n = K.m();
-  unsigned int nev = settings.n_modes;
+  // Works on the matrices' own distribution: every process holds its locally owned rows, and
+  // ARPACK's parallel version (PARPACK) runs the Lanczos iteration on those local blocks. A
+  // serial matrix lives on MPI_COMM_SELF.
+  const MPI_Comm comm = K.get_mpi_communicator();
+  const bool parallel = Utilities::MPI::n_mpi_processes(comm) > 1;
+  const IndexSet &owned = K.locally_owned_range_indices();
+  int n_local = owned.n_elements();
+  int nev = settings.n_modes;
   if (settings.n_modes >= n_free)
     throw InputError("Modal analysis/Number of modes",
                      std::to_string(settings.n_modes) + " modes requested, but the model has only " +
                        std::to_string(n_free) + " free degrees of freedom; allowed: fewer than " +
                        std::to_string(n_free) + " (or refine the mesh)");
 
-  // Factorise A = K - sigma M once.
-  const SparseFactorization factorization(K, M, shift, amesos_solver);
+  // Factorise A = K - sigma M once (CHOLMOD is serial: in parallel MUMPS does the work).
+  const SparseFactorization factorization(K, M, shift, parallel && amesos_solver == "cholmod" ? "mumps" : amesos_solver);
 
-  const IndexSet all = complete_index_set(n);
-  TrilinosWrappers::MPI::Vector x(all, MPI_COMM_SELF), b(all, MPI_COMM_SELF);
+  TrilinosWrappers::MPI::Vector x(owned, comm), b(owned, comm);
   auto apply_mass = [&](const double *in, double *out) {
-    std::copy(in, in + n, b.begin());
+    std::copy(in, in + n_local, b.begin());
     M.vmult(x, b);
     std::copy(x.begin(), x.end(), out);
   };
   auto apply_inverse = [&](const double *in, double *out) { factorization.solve(in, out); };
+  auto dot = [&](const double *u, const double *v) {
+    return Utilities::MPI::sum(std::inner_product(u, u + n_local, v, 0.0), comm);
+  };
 
   // ARPACK reverse communication, symmetric generalised problem in shift-invert mode.
   // The Krylov space lives in the free dofs (M vanishes on the supported ones).
   int ncv = std::min<int>(n_free, std::max(2 * nev + 1, nev + 20));
-  int ldv = n;
+  int ldv = n_local;
   int ido = 0, info = 1, lworkl = ncv * (ncv + 8);
   char bmat[2] = "G", which[3] = "LM";
   double tol = settings.tolerance;
-  // A smooth, deterministic start vector, zero on constrained dofs (M's zero diagonal rows).
-  std::vector<double> resid(n), v(static_cast<std::size_t>(n) * ncv), workd(3 * static_cast<std::size_t>(n)),
-    workl(lworkl);
+  MPI_Fint fortran_comm = MPI_Comm_c2f(comm);
+  // A smooth start vector, a function of the global index (the same for any distribution), in
+  // the range of the operator: (K - sigma M)^{-1} M v.
+  std::vector<double> resid(n_local), v(static_cast<std::size_t>(n_local) * ncv), workd(3 * static_cast<std::size_t>(n_local)),
+    workl(lworkl), tmp(n_local);
   {
-    std::vector<double> ones(n, 1.0), tmp(n);
-    for (unsigned int i = 0; i < n; ++i) ones[i] = 1.0 + 0.1 * std::sin(0.37 * i);
-    apply_mass(ones.data(), tmp.data());
+    std::vector<double> start(n_local);
+    unsigned int k = 0;
+    for (const auto i : owned) start[k++] = 1.0 + 0.1 * std::sin(0.37 * i);
+    apply_mass(start.data(), tmp.data());
     apply_inverse(tmp.data(), resid.data());
   }
   std::vector<int> iparam(11, 0), ipntr(14, 0);
   iparam[0] = 1;
   iparam[2] = settings.max_iterations;
   iparam[6] = 3;
-  std::vector<double> tmp(n);
   while (true)
     {
-      dsaupd_(&ido, bmat, &n, which, &nev, &tol, resid.data(), &ncv, v.data(), &ldv, iparam.data(), ipntr.data(),
-              workd.data(), workl.data(), &lworkl, &info);
+      pdsaupd_(&fortran_comm, &ido, bmat, &n_local, which, &nev, &tol, resid.data(), &ncv, v.data(), &ldv,
+               iparam.data(), ipntr.data(), workd.data(), workl.data(), &lworkl, &info);
       double *in = workd.data() + ipntr[0] - 1, *out = workd.data() + ipntr[1] - 1;
       if (ido == -1)
         {
@@ -128,17 +139,21 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
   if (info < 0)
     throw SolverError("ARPACK dsaupd failed with code " + std::to_string(info));
 
-  int rvec = 1, ldz = n;
+  int rvec = 1, ldz = n_local;
   char howmany = 'A';
   std::vector<int> select(ncv, 1);
-  std::vector<double> lambda(nev), z(static_cast<std::size_t>(n) * nev);
+  std::vector<double> lambda(nev), z(static_cast<std::size_t>(n_local) * nev);
   double sigma = shift;
-  dseupd_(&rvec, &howmany, select.data(), lambda.data(), z.data(), &ldz, &sigma, bmat, &n, which, &nev, &tol,
-          resid.data(), &ncv, v.data(), &ldv, iparam.data(), ipntr.data(), workd.data(), workl.data(), &lworkl, &info);
+  pdseupd_(&fortran_comm, &rvec, &howmany, select.data(), lambda.data(), z.data(), &ldz, &sigma, bmat, &n_local,
+           which, &nev, &tol, resid.data(), &ncv, v.data(), &ldv, iparam.data(), ipntr.data(), workd.data(),
+           workl.data(), &lworkl, &info);
   if (info != 0)
     throw SolverError("ARPACK dseupd failed with code " + std::to_string(info));
 
   const unsigned int converged = iparam[4];
+  if (converged < static_cast<unsigned int>(nev))
+    throw SolverError("only " + std::to_string(converged) + " of " + std::to_string(nev) +
+                      " modes converged; raise 'Modal analysis/Maximum iterations'");
   std::vector<int> order(converged);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return lambda[a] < lambda[b]; });
@@ -146,20 +161,24 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
   modes.iterations = iparam[2];
   for (const int k : order)
     {
-      Vector<double> phi(n);
-      std::copy(z.begin() + static_cast<std::size_t>(k) * n, z.begin() + static_cast<std::size_t>(k + 1) * n, phi.begin());
-      apply_mass(phi.begin(), tmp.data());
-      const double norm = std::sqrt(std::inner_product(phi.begin(), phi.end(), tmp.begin(), 0.0));
-      phi /= norm;
-      // Sign convention: the largest component is positive, so that runs are reproducible.
-      const auto largest = std::max_element(phi.begin(), phi.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
-      if (*largest < 0) phi *= -1.0;
+      double *phi = z.data() + static_cast<std::size_t>(k) * n_local;
+      apply_mass(phi, tmp.data());
+      const double norm = std::sqrt(dot(phi, tmp.data()));
+      // Mass-normalise; sign convention: the largest component is positive (reproducible runs).
+      double largest = 0;
+      for (int i = 0; i < n_local; ++i)
+        if (std::abs(phi[i]) > std::abs(largest)) largest = phi[i];
+      const double global_largest = Utilities::MPI::max(std::abs(largest), comm);
+      const double sign_here = std::abs(largest) == global_largest ? (largest < 0 ? -1.0 : 1.0) : 0.0;
+      const double sign = Utilities::MPI::max(sign_here, comm) > 0 ? 1.0 : -1.0;
+      // The full vector on every process (output needs it), entries at their global indices.
+      Vector<double> shape(K.m());
+      unsigned int j = 0;
+      for (const auto i : owned) shape[i] = sign * phi[j++] / norm;
+      if (parallel) Utilities::MPI::sum(shape, comm, shape);
       modes.eigenvalues.push_back(lambda[k]);
-      modes.shapes.push_back(std::move(phi));
+      modes.shapes.push_back(std::move(shape));
     }
-  if (converged < nev)
-    throw SolverError("only " + std::to_string(converged) + " of " + std::to_string(nev) +
-                      " modes converged; raise 'Modal analysis/Maximum iterations'");
   return modes;
 }
 

@@ -30,12 +30,14 @@ public:
   void solve(const double *b, double *x) const;
 
 private:
+  // Members are destroyed in reverse order: the solver before the problem, vectors and matrix
+  // it refers to.
+  dealii::TrilinosWrappers::SparseMatrix matrix; // A, for the Amesos solvers only
   std::unique_ptr<Epetra_LinearProblem> problem;
   std::unique_ptr<Epetra_Vector> lhs, rhs;
   std::unique_ptr<Amesos_BaseSolver> solver;
   struct Cholmod;
   std::unique_ptr<Cholmod> cholmod;
-  dealii::TrilinosWrappers::SparseMatrix matrix; // A, for the Amesos solvers only
   /// Cholesky of A; false if A is not positive definite.
   bool factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
                               const dealii::TrilinosWrappers::SparseMatrix &M, double sigma);
