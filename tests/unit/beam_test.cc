@@ -214,3 +214,20 @@ TEST(CurvedBeam, observed_convergence_order_is_twice_the_element_degree)
       EXPECT_NEAR(order, 2.0 * p, 0.35) << "degree " << p << ": frequencies " << f[0] << " " << f[1] << " " << f[2];
     }
 }
+
+TEST(Scene, json_and_prm_files_describe_the_same_scene)
+{
+  // deal.II's ParameterHandler reads .json as well as .prm: the same arm in both formats must
+  // give the same frequencies (bit for bit: same parameters, same computation).
+  std::vector<std::vector<double>> f;
+  for (const std::string file : {"quarter_ring.json", "quarter_ring.prm"})
+    {
+      dealii::ParameterHandler prm;
+      io::declare_arm_scene(prm);
+      const io::ArmScene scene = io::read_arm_scene(FLEXTRACK_TEST_DIR "/input/" + file, prm);
+      const fem::CurvedBeamModel model(scene.arm);
+      f.push_back(reduction::lowest_modes(model, scene.modal).frequencies_hz());
+    }
+  ASSERT_EQ(f[0].size(), 3u);
+  for (unsigned int k = 0; k < 3; ++k) EXPECT_EQ(f[0][k], f[1][k]) << "mode " << k + 1;
+}
