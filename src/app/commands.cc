@@ -72,70 +72,51 @@ struct Model
   std::unique_ptr<fem::SolidModel> solid;
 };
 
-ModalRun analyse_solid(const io::ArmScene &scene, const unsigned int refinement, TimerOutput &timer, Model *keep)
+/// The lowest modes of a built FE model (arm or solid), with the scene's file in any error.
+template <typename ModelType>
+ModalRun solve(const ModelType &model, const io::ArmScene &scene, TimerOutput &timer)
 {
-  std::unique_ptr<fem::SolidModel> model;
-  {
-    TimerOutput::Scope t(timer, "assemble K and M");
-    try
-      {
-        model = std::make_unique<fem::SolidModel>(scene.solid, refinement);
-      }
-    catch (const InputError &e)
-      {
-        throw e.in_file(scene.file);
-      }
-  }
   ModalRun run;
-  run.n_dofs = model->n_dofs();
-  run.n_free_dofs = model->n_free_dofs();
-  run.n_cells = model->n_cells();
-  {
-    TimerOutput::Scope t(timer, "eigen solve");
-    try
-      {
-        run.modes = reduction::lowest_modes(*model, scene.modal);
-      }
-    catch (const InputError &e)
-      {
-        throw e.in_file(scene.file);
-      }
-  }
-  if (keep) keep->solid = std::move(model);
+  run.n_dofs = model.n_dofs();
+  run.n_free_dofs = model.n_free_dofs();
+  run.n_cells = model.n_cells();
+  TimerOutput::Scope t(timer, "eigen solve");
+  try
+    {
+      run.modes = reduction::lowest_modes(model, scene.modal);
+    }
+  catch (const InputError &e)
+    {
+      throw e.in_file(scene.file);
+    }
   return run;
 }
 
+/// Build the scene's FE model on the given refinement level and solve for its lowest modes;
+/// @p keep receives the model (for output).
 ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, TimerOutput &timer, Model *keep = nullptr)
 {
-  if (scene.is_solid) return analyse_solid(scene, refinement, timer, keep);
-  std::unique_ptr<fem::CurvedBeamModel> model;
+  Model model;
   {
     TimerOutput::Scope t(timer, "assemble K and M");
     try
       {
-        model = std::make_unique<fem::CurvedBeamModel>(scene.arm, refinement);
+        if (scene.is_solid)
+          model.solid = std::make_unique<fem::SolidModel>(scene.solid, refinement);
+        else
+          model.arm = std::make_unique<fem::CurvedBeamModel>(scene.arm, refinement);
       }
     catch (const geometry::FrameError &e)
       {
         throw InputError("Arm/Section frame/Kind", e.what(), scene.file);
       }
-  }
-  ModalRun run;
-  run.n_dofs = model->n_dofs();
-  run.n_free_dofs = model->n_free_dofs();
-  run.n_cells = model->n_cells();
-  {
-    TimerOutput::Scope t(timer, "eigen solve");
-    try
-      {
-        run.modes = reduction::lowest_modes(*model, scene.modal);
-      }
     catch (const InputError &e)
       {
         throw e.in_file(scene.file);
       }
   }
-  if (keep) keep->arm = std::move(model);
+  const ModalRun run = model.solid ? solve(*model.solid, scene, timer) : solve(*model.arm, scene, timer);
+  if (keep) *keep = std::move(model);
   return run;
 }
 
