@@ -175,4 +175,43 @@ void CurvedBeamModel::assemble()
     if (supports.is_constrained(i)) mass.set(i, i, 0.0);
   mass.compress(VectorOperation::insert);
 }
+
+std::pair<DoFHandler<1, 3>::active_cell_iterator, double> CurvedBeamModel::locate(const double s) const
+{
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      const auto [s0, s1] = mesh.cell_arc_lengths(cell);
+      if (s >= s0 && s <= s1) return {cell, (s - s0) / (s1 - s0)};
+    }
+  throw std::out_of_range("arc length " + std::to_string(s) + " m is not on the arm");
+}
+
+Vector<double> CurvedBeamModel::point_load(const double s, const Tensor<1, 3> &F) const
+{
+  const auto [cell, xi] = locate(s);
+  Vector<double> f(dofs.n_dofs());
+  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+  cell->get_dof_indices(local);
+  for (unsigned int i = 0; i < local.size(); ++i)
+    {
+      const unsigned int c = fe.system_to_component_index(i).first;
+      if (c < 3) f[local[i]] += F[c] * fe.shape_value_component(i, Point<1>(xi), c);
+    }
+  supports.set_zero(f);
+  return f;
+}
+
+Tensor<1, 3> CurvedBeamModel::displacement_at(const double s, const Vector<double> &u) const
+{
+  const auto [cell, xi] = locate(s);
+  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+  cell->get_dof_indices(local);
+  Tensor<1, 3> d;
+  for (unsigned int i = 0; i < local.size(); ++i)
+    {
+      const unsigned int c = fe.system_to_component_index(i).first;
+      if (c < 3) d[c] += u[local[i]] * fe.shape_value_component(i, Point<1>(xi), c);
+    }
+  return d;
+}
 } // namespace flextrack::fem

@@ -23,6 +23,7 @@
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
 
 namespace flextrack::fem
 {
@@ -43,8 +44,15 @@ public:
   unsigned int n_free_dofs() const { return dofs.n_dofs() - supports.n_constraints(); }
   unsigned int n_cells() const { return mesh.n_cells(); }
   const Arm &arm() const { return description; }
+  const ArmMesh &mesh_of_arm() const { return mesh; }
+  /// Nodal load vector of a point force @p F [N] (global axes) at arc length @p s [m].
+  dealii::Vector<double> point_load(double s, const dealii::Tensor<1, 3> &F) const;
+  /// Displacement [m] at arc length @p s of the dof vector @p u.
+  dealii::Tensor<1, 3> displacement_at(double s, const dealii::Vector<double> &u) const;
 
 private:
+  /// The cell holding arc length s, and s's reference coordinate in it.
+  std::pair<dealii::DoFHandler<1, 3>::active_cell_iterator, double> locate(double s) const;
   void setup_dofs();
   void apply_supports();
   void assemble();

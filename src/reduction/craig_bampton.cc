@@ -10,6 +10,28 @@ namespace flextrack::reduction
 {
 using namespace dealii;
 
+namespace
+{
+/// Phi^T K Phi and Phi^T M Phi of a model's matrices.
+void project(ReducedModel &r, const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M)
+{
+  const unsigned int n = r.basis.size();
+  r.stiffness.reinit(n, n);
+  r.mass.reinit(n, n);
+  Vector<double> Kphi(K.m()), Mphi(M.m());
+  for (unsigned int b = 0; b < n; ++b)
+    {
+      K.vmult(Kphi, r.basis[b]);
+      M.vmult(Mphi, r.basis[b]);
+      for (unsigned int a = 0; a < n; ++a)
+        {
+          r.stiffness(a, b) = r.basis[a] * Kphi;
+          r.mass(a, b) = r.basis[a] * Mphi;
+        }
+    }
+}
+} // namespace
+
 ReducedModel craig_bampton(const fem::Arm &arm, const double interface_s, const unsigned int n_normal_modes,
                            const ModalSettings &settings)
 {
@@ -40,20 +62,44 @@ ReducedModel craig_bampton(const fem::Arm &arm, const double interface_s, const 
     }
 
   // Reduced matrices Phi^T K Phi and Phi^T M Phi (supported dofs vanish in every column).
-  const unsigned int n = r.basis.size();
-  r.stiffness.reinit(n, n);
-  r.mass.reinit(n, n);
-  Vector<double> Kphi(full.n_dofs()), Mphi(full.n_dofs());
-  for (unsigned int b = 0; b < n; ++b)
-    {
-      full.stiffness_matrix().vmult(Kphi, r.basis[b]);
-      full.mass_matrix().vmult(Mphi, r.basis[b]);
-      for (unsigned int a = 0; a < n; ++a)
-        {
-          r.stiffness(a, b) = r.basis[a] * Kphi;
-          r.mass(a, b) = r.basis[a] * Mphi;
-        }
-    }
+  project(r, full.stiffness_matrix(), full.mass_matrix());
+  return r;
+}
+
+
+ReducedModel track_load_basis(const fem::Arm &arm, const unsigned int n_normal_modes, const unsigned int n_stations,
+                              const ModalSettings &settings)
+{
+  const fem::CurvedBeamModel model(arm);
+  ModalSettings modal = settings;
+  modal.n_modes = n_normal_modes;
+  ReducedModel r;
+  r.n_normal_modes = n_normal_modes;
+  r.basis = lowest_modes(model, modal).shapes; // mass-orthonormal already
+  const double L = arm.curve->length();
+  Vector<double> Mv(model.n_dofs());
+  for (unsigned int k = 1; k <= n_stations; ++k)
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        Vector<double> v = solve_direct(model.stiffness_matrix(), model.point_load(k * L / n_stations,
+                                                                                     Tensor<1, 3>(Point<3>::unit_vector(d))));
+        model.mass_matrix().vmult(Mv, v);
+        const double original = std::sqrt(v * Mv);
+        for (int pass = 0; pass < 2; ++pass) // twice is enough (Kahan: "twice is enough")
+          for (const auto &phi : r.basis)
+            {
+              model.mass_matrix().vmult(Mv, phi);
+              v.add(-(v * Mv), phi);
+            }
+        model.mass_matrix().vmult(Mv, v);
+        const double norm = std::sqrt(v * Mv);
+        if (norm > 1e-8 * original)
+          {
+            v /= norm;
+            r.basis.push_back(std::move(v));
+          }
+      }
+  project(r, model.stiffness_matrix(), model.mass_matrix());
   return r;
 }
 

@@ -32,4 +32,11 @@ struct ReducedModel
 /// length @p interface_s and @p n_normal_modes fixed-interface modes.
 ReducedModel craig_bampton(const fem::Arm &arm, double interface_s, unsigned int n_normal_modes,
                            const ModalSettings &settings = ModalSettings());
+/// A basis for an arm that carries a sliding contact: its @p n_normal_modes lowest modes and
+/// the static responses to unit forces along x, y and z at @p n_stations stations
+/// s_k = k L / n_stations (k = 1..n), mass-orthonormalised against the modes and each other
+/// (Gram-Schmidt in the M inner product; dependent vectors are dropped), so that a concentrated
+/// load at any arc length is represented (FORMULATION.md sec. 7).
+ReducedModel track_load_basis(const fem::Arm &arm, unsigned int n_normal_modes, unsigned int n_stations,
+                              const ModalSettings &settings = ModalSettings());
 } // namespace flextrack::reduction
