@@ -261,19 +261,21 @@ int converge(const Options &options)
   // Per mode and level: frequency, change from the previous level, observed order
   // p = log2(change_{k-1} / change_k) (halving h), and the error against the finest level.
   const unsigned int n_modes = scene.modal.n_modes;
+  std::vector<std::vector<double>> f(levels.size());
+  for (unsigned int k = 0; k <= K; ++k) f[k] = levels[k].modes.frequencies_hz();
   std::ostringstream csv;
   csv << "mode,level,elements,dofs,frequency_Hz,change_Hz,observed_order,relative_error_vs_finest,wall_time_s\n";
   std::cout << "\n  mode level     dofs      frequency [Hz]     change [Hz]   order\n";
   for (unsigned int m = 0; m < n_modes; ++m)
     for (unsigned int k = 0; k <= K; ++k)
       {
-        const double fk = levels[k].modes.frequencies_hz()[m];
-        const double finest = levels[K].modes.frequencies_hz()[m];
-        const double change = k > 0 ? fk - levels[k - 1].modes.frequencies_hz()[m] : NAN;
+        const double fk = f[k][m];
+        const double finest = f[K][m];
+        const double change = k > 0 ? fk - f[k - 1][m] : NAN;
         double order = NAN;
         if (k > 1)
           {
-            const double previous = levels[k - 1].modes.frequencies_hz()[m] - levels[k - 2].modes.frequencies_hz()[m];
+            const double previous = f[k - 1][m] - f[k - 2][m];
             order = std::log2(std::abs(previous / change));
           }
         const double error = k < K ? std::abs(fk - finest) / std::abs(finest) : NAN;
@@ -316,7 +318,7 @@ int converge(const Options &options)
     {
       io::JsonObject l;
       l.add("level", k).add("elements", levels[k].n_cells).add("degrees_of_freedom", levels[k].n_dofs)
-        .add("frequencies_Hz", levels[k].modes.frequencies_hz()).add("wall_time_s", level_times[k]);
+        .add("frequencies_Hz", f[k]).add("wall_time_s", level_times[k]);
       level_list += (k ? ", " : "") + l.str(4);
     }
   summary.raw("levels", level_list + "]")

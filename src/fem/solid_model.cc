@@ -72,6 +72,7 @@ SolidModel::SolidModel(const Solid &solid, const unsigned int refinement)
   setup_geometry();
   dofs.reinit(tria);
   dofs.distribute_dofs(*fe);
+  tabulate_node_dofs();
   apply_supports();
   assemble();
 }
@@ -112,32 +113,30 @@ void SolidModel::setup_geometry()
   map = std::make_unique<MappingFEField<3, 3, Vector<double>>>(geometry_dofs, positions);
 }
 
-std::vector<types::global_dof_index> SolidModel::node_dofs(const MeshNode &node) const
+void SolidModel::tabulate_node_dofs()
 {
-  std::vector<types::global_dof_index> result;
+  // One pass over the cells: the (x, y, z) dofs at every vertex and, where the element has
+  // line dofs, at every edge midpoint.
   for (const auto &cell : dofs.active_cell_iterators())
     {
-      if (node.is_vertex)
-        {
-          for (unsigned int v = 0; v < 8; ++v)
-            if (cell->vertex_index(v) == node.vertex)
-              {
-                for (unsigned int c = 0; c < 3; ++c) result.push_back(cell->vertex_dof_index(v, c));
-                return result;
-              }
-        }
-      else if (fe->n_dofs_per_line() > 0)
+      for (unsigned int v = 0; v < 8; ++v)
+        dofs_at_node.try_emplace(MeshNode{true, cell->vertex_index(v), {0, 0}},
+                                 std::vector<types::global_dof_index>{cell->vertex_dof_index(v, 0),
+                                                                      cell->vertex_dof_index(v, 1),
+                                                                      cell->vertex_dof_index(v, 2)});
+      if (fe->n_dofs_per_line() > 0)
         for (unsigned int l = 0; l < 12; ++l)
-          {
-            const auto key = ordered_edge(cell->line(l)->vertex_index(0), cell->line(l)->vertex_index(1));
-            if (key.first == node.edge.first && key.second == node.edge.second)
-              {
-                for (unsigned int c = 0; c < 3; ++c) result.push_back(cell->line(l)->dof_index(c));
-                return result;
-              }
-          }
+          dofs_at_node.try_emplace(
+            MeshNode{false, 0, ordered_edge(cell->line(l)->vertex_index(0), cell->line(l)->vertex_index(1))},
+            std::vector<types::global_dof_index>{cell->line(l)->dof_index(0), cell->line(l)->dof_index(1),
+                                                 cell->line(l)->dof_index(2)});
     }
-  return result;
+}
+
+std::vector<types::global_dof_index> SolidModel::node_dofs(const MeshNode &node) const
+{
+  const auto it = dofs_at_node.find(node);
+  return it != dofs_at_node.end() ? it->second : std::vector<types::global_dof_index>();
 }
 
 std::vector<Point<3>> SolidModel::support_points() const

@@ -22,6 +22,9 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <map>
+#include <vector>
+
 namespace flextrack::fem
 {
 class SolidModel
@@ -47,6 +50,7 @@ public:
 
 private:
   void setup_geometry();
+  void tabulate_node_dofs();
   void apply_supports();
   void assemble();
 
@@ -60,6 +64,7 @@ private:
   std::unique_ptr<dealii::FESystem<3>> fe;
   dealii::DoFHandler<3> dofs;
   dealii::AffineConstraints<double> supports;
+  std::map<MeshNode, std::vector<dealii::types::global_dof_index>> dofs_at_node;
   dealii::TrilinosWrappers::SparseMatrix stiffness, mass;
 };
 } // namespace flextrack::fem

@@ -112,10 +112,7 @@ std::vector<double> ReducedModel::frequencies_hz() const
   K.compute_generalized_eigenvalues_symmetric(M, vectors);
   std::vector<double> f;
   for (unsigned int i = 0; i < stiffness.m(); ++i)
-    {
-      const double l = K.eigenvalue(i).real();
-      f.push_back(std::copysign(std::sqrt(std::abs(l)), l) / (2 * M_PI));
-    }
+    f.push_back(frequency_hz(K.eigenvalue(i).real()));
   std::sort(f.begin(), f.end());
   return f;
 }

@@ -53,10 +53,15 @@ ModalSettings ModalSettings::parse_parameters(ParameterHandler &prm)
   return s;
 }
 
+double frequency_hz(const double eigenvalue)
+{
+  return std::copysign(std::sqrt(std::abs(eigenvalue)), eigenvalue) / (2 * M_PI);
+}
+
 std::vector<double> Modes::frequencies_hz() const
 {
   std::vector<double> f;
-  for (const double l : eigenvalues) f.push_back(std::copysign(std::sqrt(std::abs(l)), l) / (2 * M_PI));
+  for (const double l : eigenvalues) f.push_back(frequency_hz(l));
   return f;
 }
 

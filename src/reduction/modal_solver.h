@@ -32,6 +32,10 @@ struct ModalSettings
   static ModalSettings parse_parameters(dealii::ParameterHandler &prm);
 };
 
+/// Frequency [Hz] of an eigenvalue w^2 [rad^2/s^2]: sign(w^2) sqrt(|w^2|) / (2 pi), so that a
+/// (round-off) negative eigenvalue stays visible.
+double frequency_hz(double eigenvalue);
+
 struct Modes
 {
   std::vector<double> eigenvalues;            ///< w^2 [rad^2/s^2], ascending
