@@ -19,9 +19,9 @@ SupportKind parse_support_kind(const std::string &text, const std::string &entry
   throw InputError(entry, "unknown support '" + t + "'; allowed: clamped, pinned, free");
 }
 
-void Arm::declare_parameters(ParameterHandler &prm)
+void Arm::declare_parameters(ParameterHandler &prm, const std::string &section)
 {
-  prm.enter_subsection("Arm");
+  prm.enter_subsection(section);
   prm.enter_subsection("Curve");
   geometry::declare_curve_parameters(prm);
   prm.leave_subsection();
@@ -47,27 +47,27 @@ void Arm::declare_parameters(ParameterHandler &prm)
   prm.leave_subsection();
 }
 
-Arm Arm::parse_parameters(ParameterHandler &prm, const std::string &directory)
+Arm Arm::parse_parameters(ParameterHandler &prm, const std::string &directory, const std::string &section)
 {
   Arm arm;
   // An InputError ends the run, so subsections need not be left on the way out.
-  prm.enter_subsection("Arm");
+  prm.enter_subsection(section);
   {
       prm.enter_subsection("Curve");
-      arm.curve = geometry::parse_curve(prm, {"Arm/Curve", directory});
+      arm.curve = geometry::parse_curve(prm, {section + "/Curve", directory});
       prm.leave_subsection();
       arm.frame = std::make_shared<geometry::SectionFrame>(
-        geometry::SectionFrame::parse_parameters(prm, arm.curve, {"Arm", directory}));
-      arm.material = Material::parse_parameters(prm, "Arm");
-      arm.section = CrossSection::parse_parameters(prm, "Arm", arm.material.poisson_ratio);
+        geometry::SectionFrame::parse_parameters(prm, arm.curve, {section, directory}));
+      arm.material = Material::parse_parameters(prm, section);
+      arm.section = CrossSection::parse_parameters(prm, section, arm.material.poisson_ratio);
 
       prm.enter_subsection("Supports");
       const double L = arm.curve->length();
-      arm.supports.push_back({0.0, parse_support_kind(prm.get("Start"), "Arm/Supports/Start")});
-      arm.supports.push_back({L, parse_support_kind(prm.get("End"), "Arm/Supports/End")});
+      arm.supports.push_back({0.0, parse_support_kind(prm.get("Start"), section + "/Supports/Start")});
+      arm.supports.push_back({L, parse_support_kind(prm.get("End"), section + "/Supports/End")});
       std::istringstream list(prm.get("Intermediate"));
       std::string item;
-      const std::string entry = "Arm/Supports/Intermediate";
+      const std::string entry = section + "/Supports/Intermediate";
       while (std::getline(list, item, ';'))
         {
           if (item.find_first_not_of(" \t") == std::string::npos) continue;

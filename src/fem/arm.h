@@ -34,9 +34,11 @@ struct Arm
   unsigned int n_elements = 16; ///< on the coarsest mesh
   unsigned int degree = 2;      ///< polynomial degree of the beam element, 1..3
 
-  static void declare_parameters(dealii::ParameterHandler &prm);
-  /// Reads "subsection Arm"; relative file names are taken from @p directory.
-  static Arm parse_parameters(dealii::ParameterHandler &prm, const std::string &directory);
+  /// Declares "subsection @p section" (a body's arms are "Arm NAME").
+  static void declare_parameters(dealii::ParameterHandler &prm, const std::string &section = "Arm");
+  /// Reads "subsection @p section"; relative file names are taken from @p directory.
+  static Arm parse_parameters(dealii::ParameterHandler &prm, const std::string &directory,
+                              const std::string &section = "Arm");
 };
 
 SupportKind parse_support_kind(const std::string &text, const std::string &entry);

@@ -40,8 +40,8 @@ std::array<double, 6> strains(const SectionAxes &a, const unsigned int component
 }
 } // namespace
 
-CurvedBeamModel::CurvedBeamModel(const Arm &arm, const unsigned int refinement)
-  : description(arm), mesh(arm, refinement), fe(FE_Q<1, 3>(arm.degree), 6),
+CurvedBeamModel::CurvedBeamModel(const Arm &arm, const unsigned int refinement, const bool constrain_matrices)
+  : description(arm), constrained_assembly(constrain_matrices), mesh(arm, refinement), fe(FE_Q<1, 3>(arm.degree), 6),
     map(std::make_unique<MappingQ<1, 3>>(std::max(arm.degree, 3u))), dofs(mesh.triangulation())
 {
   setup_dofs();
@@ -74,8 +74,11 @@ void CurvedBeamModel::apply_supports()
 
 void CurvedBeamModel::assemble()
 {
+  AffineConstraints<double> none;
+  none.close();
+  const AffineConstraints<double> &applied = constrained_assembly ? supports : none;
   DynamicSparsityPattern pattern(dofs.n_dofs());
-  DoFTools::make_sparsity_pattern(dofs, pattern, supports, false);
+  DoFTools::make_sparsity_pattern(dofs, pattern, applied, false);
   stiffness.reinit(pattern);
   mass.reinit(pattern);
 
@@ -163,8 +166,8 @@ void CurvedBeamModel::assemble()
             m_cell(j, i) = m_cell(i, j);
           }
       cell->get_dof_indices(cell_dofs);
-      supports.distribute_local_to_global(k_cell, cell_dofs, stiffness);
-      supports.distribute_local_to_global(m_cell, cell_dofs, mass);
+      applied.distribute_local_to_global(k_cell, cell_dofs, stiffness);
+      applied.distribute_local_to_global(m_cell, cell_dofs, mass);
     }
   stiffness.compress(VectorOperation::add);
   mass.compress(VectorOperation::add);
@@ -172,7 +175,7 @@ void CurvedBeamModel::assemble()
   // Supported dofs: keep K's positive diagonal, zero M's, so that their eigenvalues are
   // infinite and never among the lowest modes.
   for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
-    if (supports.is_constrained(i)) mass.set(i, i, 0.0);
+    if (applied.is_constrained(i)) mass.set(i, i, 0.0);
   mass.compress(VectorOperation::insert);
 }
 

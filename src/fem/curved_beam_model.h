@@ -30,8 +30,10 @@ namespace flextrack::fem
 class CurvedBeamModel
 {
 public:
-  /// Mesh of arm.n_elements * 2^refinement cells; assembles K and M.
-  CurvedBeamModel(const Arm &arm, unsigned int refinement = 0);
+  /// Mesh of arm.n_elements * 2^refinement cells; assembles K and M. With
+  /// @p constrain_matrices false the supports are only listed in constraints(), and K and M are
+  /// those of the free arm (a flexible body applies them with its ties, fem/body_model.h).
+  CurvedBeamModel(const Arm &arm, unsigned int refinement = 0, bool constrain_matrices = true);
 
   const dealii::DoFHandler<1, 3> &dof_handler() const { return dofs; }
   const dealii::Mapping<1, 3> &mapping() const { return *map; }
@@ -58,6 +60,7 @@ private:
   void assemble();
 
   const Arm &description;
+  bool constrained_assembly;
   ArmMesh mesh;
   dealii::FESystem<1, 3> fe;
   std::unique_ptr<dealii::MappingQ<1, 3>> map;

@@ -43,8 +43,8 @@ Point<3> coarse_coordinates(Iterator cell, Point<3> p)
 }
 } // namespace
 
-SolidModel::SolidModel(const Solid &solid, const unsigned int refinement)
-  : body(solid), level(refinement),
+SolidModel::SolidModel(const Solid &solid, const unsigned int refinement, const bool constrain_matrices)
+  : body(solid), level(refinement), constrained_assembly(constrain_matrices),
     tria(MPI_COMM_WORLD, Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis),
     geometry_fe(FE_Serendipity<3>(), 3), fe(make_element(solid.element))
 {
@@ -216,6 +216,9 @@ void SolidModel::apply_supports()
 
 void SolidModel::assemble()
 {
+  AffineConstraints<double> none;
+  none.close();
+  const AffineConstraints<double> &applied = constrained_assembly ? supports : none;
   // The pattern of every row from every cell: DoFTools::make_sparsity_pattern would visit only
   // this process's cells, and miss couplings of its rows through the neighbours' cells.
   DynamicSparsityPattern pattern(dofs.n_dofs());
@@ -224,7 +227,7 @@ void SolidModel::assemble()
     for (const auto &cell : dofs.active_cell_iterators())
       {
         cell->get_dof_indices(cell_dofs);
-        supports.add_entries_local_to_global(cell_dofs, pattern, false);
+        applied.add_entries_local_to_global(cell_dofs, pattern, false);
       }
   }
   const IndexSet &owned = dofs.locally_owned_dofs();
@@ -286,13 +289,13 @@ void SolidModel::assemble()
             m_cell(j, i) = m_cell(i, j);
           }
       cell->get_dof_indices(local);
-      supports.distribute_local_to_global(k_cell, local, stiffness);
-      supports.distribute_local_to_global(m_cell, local, mass);
+      applied.distribute_local_to_global(k_cell, local, stiffness);
+      applied.distribute_local_to_global(m_cell, local, mass);
     }
   stiffness.compress(VectorOperation::add);
   mass.compress(VectorOperation::add);
   for (const auto i : owned)
-    if (supports.is_constrained(i)) mass.set(i, i, 0.0);
+    if (applied.is_constrained(i)) mass.set(i, i, 0.0);
   mass.compress(VectorOperation::insert);
 }
 } // namespace flextrack::fem

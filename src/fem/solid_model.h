@@ -30,13 +30,15 @@ namespace flextrack::fem
 class SolidModel
 {
 public:
-  /// The body's mesh refined @p refinement times (each cell split into 8).
-  SolidModel(const Solid &solid, unsigned int refinement = 0);
+  /// The body's mesh refined @p refinement times (each cell split into 8). With
+  /// @p constrain_matrices false the supports are only listed in constraints(), and K and M are
+  /// those of the free body (a flexible body applies them with its ties, fem/body_model.h).
+  SolidModel(const Solid &solid, unsigned int refinement = 0, bool constrain_matrices = true);
 
   const dealii::DoFHandler<3> &dof_handler() const { return dofs; }
   const dealii::Mapping<3> &mapping() const { return *map; }
   const dealii::TrilinosWrappers::SparseMatrix &stiffness_matrix() const { return stiffness; }
-  /// Consistent mass; rows of supported dofs are zero.
+  /// Consistent mass; rows of supported dofs are zero (if the matrices are constrained).
   const dealii::TrilinosWrappers::SparseMatrix &mass_matrix() const { return mass; }
   const dealii::AffineConstraints<double> &constraints() const { return supports; }
   unsigned int n_dofs() const { return dofs.n_dofs(); }
@@ -56,6 +58,7 @@ private:
 
   const Solid &body;
   unsigned int level;
+  bool constrained_assembly;
   dealii::parallel::shared::Triangulation<3> tria;
   dealii::FESystem<3> geometry_fe;
   dealii::DoFHandler<3> geometry_dofs;

@@ -1,0 +1,238 @@
+#include <fem/body.h>
+#include <io/input_error.h>
+
+#include <algorithm>
+#include <cctype>
+#include <set>
+#include <sstream>
+
+namespace flextrack::fem
+{
+using dealii::ParameterHandler;
+
+namespace
+{
+std::string trim(const std::string &t)
+{
+  const auto a = t.find_first_not_of(" \t");
+  if (a == std::string::npos) return "";
+  return t.substr(a, t.find_last_not_of(" \t") + 1 - a);
+}
+
+/// "a: b; c: d" -> {(a, b), (c, d)}; every item needs its colon.
+std::vector<std::pair<std::string, std::string>> named_items(const std::string &text, const std::string &entry,
+                                                             const std::string &form)
+{
+  std::vector<std::pair<std::string, std::string>> items;
+  std::istringstream list(text);
+  std::string item;
+  while (std::getline(list, item, ';'))
+    {
+      if (trim(item).empty()) continue;
+      const auto colon = item.find(':');
+      if (colon == std::string::npos) throw InputError(entry, "'" + trim(item) + "' is not of the form '" + form + "'");
+      items.emplace_back(trim(item.substr(0, colon)), trim(item.substr(colon + 1)));
+    }
+  return items;
+}
+
+/// Words of a specification; commas count as blanks.
+std::vector<std::string> words(std::string text)
+{
+  std::replace(text.begin(), text.end(), ',', ' ');
+  std::istringstream in(text);
+  std::vector<std::string> w;
+  for (std::string s; in >> s;) w.push_back(s);
+  return w;
+}
+
+double number(const std::string &word, const std::string &entry, const std::string &what)
+{
+  try
+    {
+      size_t used = 0;
+      const double v = std::stod(word, &used);
+      if (used == word.size()) return v;
+    }
+  catch (...)
+    {
+    }
+  throw InputError(entry, "'" + word + "' is not a number (" + what + ")");
+}
+
+/// "within R" or "set NAME", starting at words[i].
+NodeRegion parse_region(const std::vector<std::string> &w, const size_t i, const std::string &entry,
+                        const std::optional<Solid> &solid)
+{
+  NodeRegion r;
+  if (i + 2 != w.size() || (w[i] != "within" && w[i] != "set"))
+    throw InputError(entry, "a solid region is 'within RADIUS' (all solid nodes within RADIUS [m] of the point) or "
+                            "'set NAME' (a node set of the mesh)");
+  r.text = w[i] + " " + w[i + 1];
+  if (w[i] == "within")
+    {
+      r.radius = number(w[i + 1], entry, "radius [m]");
+      if (!(r.radius > 0)) throw InputError(entry, "the radius in '" + r.text + "' must be > 0 [m]");
+    }
+  else
+    {
+      r.node_set = w[i + 1];
+      std::transform(r.node_set.begin(), r.node_set.end(), r.node_set.begin(), ::toupper);
+      if (solid && !solid->mesh->node_sets.count(r.node_set))
+        {
+          std::string known;
+          for (const auto &[name, nodes] : solid->mesh->node_sets) known += (known.empty() ? "" : ", ") + name;
+          throw InputError(entry, "the mesh " + solid->mesh->source + " has no node set '" + r.node_set +
+                                    "'; it has: " + (known.empty() ? "none" : known));
+        }
+    }
+  return r;
+}
+} // namespace
+
+int Body::arm_index(const std::string &name) const
+{
+  const auto it = std::find(arm_names.begin(), arm_names.end(), name);
+  return it == arm_names.end() ? -1 : it - arm_names.begin();
+}
+
+int Body::interface_index(const std::string &name) const
+{
+  for (unsigned int i = 0; i < interfaces.size(); ++i)
+    if (interfaces[i].name == name) return i;
+  return -1;
+}
+
+void Body::declare_arm_list(ParameterHandler &prm)
+{
+  prm.enter_subsection("Body");
+  prm.declare_entry("Arms", "", dealii::Patterns::Anything(),
+                    "Names of the body's curved arms, separated by commas (letters, digits, '_'); each arm "
+                    "NAME is described in its own 'subsection Arm NAME'. Empty: no arms.");
+  prm.leave_subsection();
+}
+
+std::vector<std::string> Body::parse_arm_list(ParameterHandler &prm)
+{
+  prm.enter_subsection("Body");
+  const std::string text = prm.get("Arms");
+  prm.leave_subsection();
+  std::vector<std::string> names;
+  for (const auto &name : words(text))
+    {
+      if (!std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(c) || c == '_'; }))
+        throw InputError("Body/Arms", "arm name '" + name + "' may only contain letters, digits and '_'");
+      if (std::find(names.begin(), names.end(), name) != names.end())
+        throw InputError("Body/Arms", "arm name '" + name + "' is listed twice");
+      names.push_back(name);
+    }
+  return names;
+}
+
+void Body::declare_parameters(ParameterHandler &prm, const std::vector<std::string> &arm_names)
+{
+  declare_arm_list(prm);
+  prm.enter_subsection("Body");
+  prm.declare_entry("Solid", "true", dealii::Patterns::Bool(),
+                    "Whether the body has a solid part, described in 'subsection Solid'.");
+  prm.declare_entry("Ties", "", dealii::Patterns::Anything(),
+                    "Arm roots (s = 0) tied to the solid, separated by ';': 'ARM: KIND, REGION' with KIND "
+                    "'rigid' (the region moves rigidly with the arm root) or 'distributing' (the arm root "
+                    "follows the region's mean translation and least-squares rotation, adding no stiffness), "
+                    "and REGION 'within R' (solid nodes within R [m] of the arm's start point) or 'set NAME' "
+                    "(a node set of the mesh). Example: 'boom: rigid, within 0.012'.");
+  prm.declare_entry("Interfaces", "", dealii::Patterns::Anything(),
+                    "Named points where joints attach, 6 dofs each, separated by ';': 'NAME: arm ARM at S' "
+                    "(the arm's node at arc length S [m]) or 'NAME: point X Y Z, REGION' (a point [m] tied "
+                    "rigidly to the solid nodes of REGION: 'within R' or 'set NAME').");
+  prm.declare_entry("Point masses", "", dealii::Patterns::Anything(),
+                    "Rigid masses at interface points, separated by ';': 'INTERFACE: m' or 'INTERFACE: m, Jxx, "
+                    "Jyy, Jzz' with mass m [kg] > 0 and principal inertias about the point [kg m^2] >= 0 "
+                    "(body axes).");
+  prm.leave_subsection();
+  Solid::declare_parameters(prm);
+  for (const auto &name : arm_names) Arm::declare_parameters(prm, "Arm " + name);
+}
+
+Body Body::parse_parameters(ParameterHandler &prm, const std::string &directory)
+{
+  Body body;
+  body.arm_names = parse_arm_list(prm);
+  prm.enter_subsection("Body");
+  const bool has_solid = prm.get_bool("Solid");
+  const std::string ties = prm.get("Ties"), interfaces = prm.get("Interfaces"), masses = prm.get("Point masses");
+  prm.leave_subsection();
+  if (has_solid) body.solid = Solid::parse_parameters(prm, directory);
+  for (const auto &name : body.arm_names) body.arms.push_back(Arm::parse_parameters(prm, directory, "Arm " + name));
+  if (!has_solid && body.arms.empty())
+    throw InputError("Body/Solid", "the body has neither a solid part nor arms; set 'Solid = true' or list arms in 'Arms'");
+
+  std::set<std::string> tied;
+  for (const auto &[arm, spec] : named_items(ties, "Body/Ties", "ARM: rigid|distributing, within R|set NAME"))
+    {
+      const std::string entry = "Body/Ties";
+      if (body.arm_index(arm) < 0) throw InputError(entry, "'" + arm + "' is not an arm of the body (listed in Body/Arms)");
+      if (!body.solid) throw InputError(entry, "arm '" + arm + "' is tied to the solid, but the body has no solid part");
+      if (!tied.insert(arm).second) throw InputError(entry, "arm '" + arm + "' is tied twice");
+      const auto w = words(spec);
+      if (w.empty() || (w[0] != "rigid" && w[0] != "distributing"))
+        throw InputError(entry, "tie of '" + arm + "': the kind must be 'rigid' or 'distributing'");
+      body.ties.push_back({arm, w[0] == "rigid" ? TieKind::rigid : TieKind::distributing,
+                           parse_region(w, 1, entry, body.solid)});
+    }
+
+  for (const auto &[name, spec] : named_items(interfaces, "Body/Interfaces", "NAME: arm ARM at S | point X Y Z, within R"))
+    {
+      const std::string entry = "Body/Interfaces";
+      if (body.interface_index(name) >= 0) throw InputError(entry, "interface '" + name + "' is defined twice");
+      InterfacePoint p;
+      p.name = name;
+      const auto w = words(spec);
+      if (w.size() == 4 && w[0] == "arm" && w[2] == "at")
+        {
+          p.arm = w[1];
+          const int a = body.arm_index(p.arm);
+          if (a < 0) throw InputError(entry, "interface '" + name + "': '" + p.arm + "' is not an arm of the body");
+          p.s = number(w[3], entry, "arc length [m]");
+          const double L = body.arms[a].curve->length();
+          if (p.s < 0 || p.s > L * (1 + 1e-12))
+            {
+              std::ostringstream m;
+              m << "interface '" << name << "' at s = " << p.s << " m lies on no part: arm '" << p.arm
+                << "' runs over 0 <= s <= " << L << " m";
+              throw InputError(entry, m.str());
+            }
+          p.s = std::min(p.s, L);
+        }
+      else if (w.size() >= 4 && w[0] == "point")
+        {
+          for (unsigned int d = 0; d < 3; ++d) p.position[d] = number(w[1 + d], entry, "coordinate [m]");
+          if (!body.solid) throw InputError(entry, "interface '" + name + "' is a point on the solid, but the body has no solid part");
+          p.region = parse_region(w, 4, entry, body.solid);
+        }
+      else
+        throw InputError(entry, "interface '" + name + "': '" + spec + "' is neither 'arm ARM at S' nor 'point X Y Z, within R' "
+                                "nor 'point X Y Z, set NAME'");
+      body.interfaces.push_back(p);
+    }
+
+  for (const auto &[at, spec] : named_items(masses, "Body/Point masses", "INTERFACE: m, Jxx, Jyy, Jzz"))
+    {
+      const std::string entry = "Body/Point masses";
+      if (body.interface_index(at) < 0) throw InputError(entry, "'" + at + "' is not an interface of the body (Body/Interfaces)");
+      const auto w = words(spec);
+      if (w.size() != 1 && w.size() != 4) throw InputError(entry, "point mass at '" + at + "': give 'm' or 'm, Jxx, Jyy, Jzz'");
+      PointMass m;
+      m.interface = at;
+      m.mass = number(w[0], entry, "mass [kg]");
+      if (!(m.mass > 0)) throw InputError(entry, "point mass at '" + at + "': the mass must be > 0 [kg]");
+      for (unsigned int d = 0; d + 1 < w.size(); ++d)
+        {
+          m.inertia[d][d] = number(w[1 + d], entry, "inertia [kg m^2]");
+          if (m.inertia[d][d] < 0) throw InputError(entry, "point mass at '" + at + "': inertias must be >= 0 [kg m^2]");
+        }
+      body.point_masses.push_back(m);
+    }
+  return body;
+}
+} // namespace flextrack::fem

@@ -1,0 +1,502 @@
+#include <fem/body_model.h>
+#include <io/input_error.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/lac/affine_constraints.h>
+
+#include <Epetra_CrsMatrix.h>
+#include <Epetra_Map.h>
+#include <Epetra_MpiComm.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace flextrack::fem
+{
+using namespace dealii;
+
+namespace
+{
+/// Coefficients of theta_b in (theta x r)_c, i.e. the matrix -[r x].
+Tensor<2, 3> cross_matrix_of_rotation(const Tensor<1, 3> &r)
+{
+  Tensor<2, 3> C; // (theta x r)_c = sum_b C[c][b] theta_b
+  C[0][1] = r[2];
+  C[0][2] = -r[1];
+  C[1][0] = -r[2];
+  C[1][2] = r[0];
+  C[2][0] = r[1];
+  C[2][1] = -r[0];
+  return C;
+}
+
+std::string point_text(const Point<3> &p)
+{
+  std::ostringstream s;
+  s << "(" << p[0] << ", " << p[1] << ", " << p[2] << ") m";
+  return s.str();
+}
+} // namespace
+
+BodyModel::~BodyModel() = default;
+
+BodyModel::BodyModel(const Body &body) : description(body)
+{
+  AssertThrow(Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) == 1,
+              ExcMessage("a flexible body is reduced serially; run without mpirun"));
+  // Each arm gets a mesh node at every interface on it; supports stay out of the matrices and
+  // are applied with the ties.
+  for (unsigned int a = 0; a < body.arms.size(); ++a)
+    {
+      arms.push_back(std::make_unique<Arm>(body.arms[a]));
+      for (const auto &p : body.interfaces)
+        if (p.arm == body.arm_names[a]) arms.back()->supports.push_back({p.s, SupportKind::free});
+    }
+  unsigned int offset = 0;
+  if (body.solid)
+    {
+      solid = std::make_unique<SolidModel>(*body.solid, 0, false);
+      offset = solid->n_dofs();
+    }
+  for (const auto &arm : arms)
+    {
+      arm_models.push_back(std::make_unique<CurvedBeamModel>(*arm, 0, false));
+      arm_offsets.push_back(offset);
+      offset += arm_models.back()->n_dofs();
+    }
+  n_full = offset;
+  collect_nodes();
+  build_constraints();
+  condense_matrices();
+}
+
+void BodyModel::collect_nodes()
+{
+  if (solid)
+    {
+      const auto points = solid->support_points();
+      const auto &fe = solid->dof_handler().get_fe();
+      const unsigned int n_base = fe.base_element(0).n_dofs_per_cell();
+      node_of_solid_dof.assign(solid->n_dofs(), -1);
+      std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+      for (const auto &cell : solid->dof_handler().active_cell_iterators())
+        {
+          cell->get_dof_indices(local);
+          for (unsigned int k = 0; k < n_base; ++k)
+            {
+              const auto x_dof = local[fe.component_to_system_index(0, k)];
+              if (node_of_solid_dof[x_dof] >= 0) continue;
+              Node n;
+              n.x = points[x_dof];
+              for (unsigned int c = 0; c < 3; ++c)
+                {
+                  n.u[c] = local[fe.component_to_system_index(c, k)];
+                  node_of_solid_dof[n.u[c]] = nodes.size();
+                }
+              nodes.push_back(n);
+            }
+        }
+    }
+  for (unsigned int a = 0; a < arm_models.size(); ++a)
+    {
+      const auto &model = *arm_models[a];
+      const auto &fe = model.dof_handler().get_fe();
+      const auto &base = fe.base_element(0);
+      std::vector<bool> seen(model.n_dofs(), false);
+      std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+      for (const auto &cell : model.dof_handler().active_cell_iterators())
+        {
+          cell->get_dof_indices(local);
+          const auto [s0, s1] = model.mesh_of_arm().cell_arc_lengths(cell);
+          for (unsigned int k = 0; k < base.n_dofs_per_cell(); ++k)
+            {
+              const auto x_dof = local[fe.component_to_system_index(0, k)];
+              if (seen[x_dof]) continue;
+              seen[x_dof] = true;
+              // Exact position on the curve, as the element's geometry is exact.
+              double s = s0 + base.get_unit_support_points()[k][0] * (s1 - s0);
+              s = std::min(s, model.arm().curve->length());
+              Node n;
+              n.x = model.arm().curve->position(s);
+              for (unsigned int c = 0; c < 3; ++c)
+                {
+                  n.u[c] = arm_offsets[a] + local[fe.component_to_system_index(c, k)];
+                  n.theta[c] = arm_offsets[a] + local[fe.component_to_system_index(3 + c, k)];
+                }
+              nodes.push_back(n);
+            }
+        }
+    }
+}
+
+std::array<unsigned int, 6> BodyModel::arm_node_dofs(const unsigned int a, const double s) const
+{
+  const auto &model = *arm_models[a];
+  const unsigned int vertex = model.mesh_of_arm().vertex_at(s);
+  for (const auto &cell : model.dof_handler().active_cell_iterators())
+    for (unsigned int v = 0; v < 2; ++v)
+      if (cell->vertex_index(v) == vertex)
+        {
+          std::array<unsigned int, 6> d;
+          for (unsigned int c = 0; c < 6; ++c) d[c] = arm_offsets[a] + cell->vertex_dof_index(v, c);
+          return d;
+        }
+  throw std::logic_error("arm vertex not found");
+}
+
+std::vector<unsigned int> BodyModel::region_nodes(const NodeRegion &region, const Point<3> &centre,
+                                                  const std::string &entry, const std::string &what) const
+{
+  std::vector<unsigned int> found;
+  if (!region.node_set.empty())
+    {
+      for (const auto &node : description.solid->mesh->node_sets.at(region.node_set))
+        {
+          const auto d = solid->node_dofs(node);
+          if (!d.empty()) found.push_back(node_of_solid_dof[d[0]]);
+        }
+      std::sort(found.begin(), found.end());
+      found.erase(std::unique(found.begin(), found.end()), found.end());
+      if (found.empty())
+        throw InputError(entry, what + ": node set '" + region.node_set + "' has no node with degrees of freedom");
+      return found;
+    }
+  double nearest = std::numeric_limits<double>::max();
+  for (unsigned int n = 0; n < nodes.size(); ++n)
+    {
+      if (nodes[n].theta[0] >= 0) continue; // solid nodes only
+      const double d = nodes[n].x.distance(centre);
+      nearest = std::min(nearest, d);
+      if (d <= region.radius) found.push_back(n);
+    }
+  if (found.empty())
+    {
+      std::ostringstream m;
+      m << what << ": no node of the solid lies within " << region.radius << " m of " << point_text(centre)
+        << " (the nearest is " << nearest << " m away); move the point onto the solid or increase the radius";
+      throw InputError(entry, m.str());
+    }
+  return found;
+}
+
+void BodyModel::build_constraints()
+{
+  // Full dof numbering: solid, arms, then 6 dofs per interface point on the solid.
+  std::vector<unsigned int> ref_node_of_interface(description.interfaces.size(), 0);
+  unsigned int n_with_refs = n_full;
+  for (unsigned int i = 0; i < description.interfaces.size(); ++i)
+    if (description.interfaces[i].arm.empty())
+      {
+        ref_node_of_interface[i] = n_with_refs;
+        n_with_refs += 6;
+      }
+  n_full = n_with_refs;
+
+  AffineConstraints<double> c;
+  auto fix = [&](const unsigned int dof) {
+    if (!c.is_constrained(dof)) c.add_line(dof);
+  };
+  if (solid)
+    for (const auto &line : solid->constraints().get_lines()) fix(line.index);
+  for (unsigned int a = 0; a < arm_models.size(); ++a)
+    for (const auto &line : arm_models[a]->constraints().get_lines()) fix(arm_offsets[a] + line.index);
+  supported = c.n_constraints() > 0;
+
+  // Rigid spider: every region node's displacement follows the master's rigid motion.
+  auto rigid = [&](const std::vector<unsigned int> &region, const std::array<unsigned int, 6> &master,
+                   const Point<3> &master_x) {
+    for (const auto n : region)
+      {
+        const Tensor<2, 3> C = cross_matrix_of_rotation(nodes[n].x - master_x);
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            const unsigned int slave = nodes[n].u[d];
+            if (c.is_constrained(slave)) continue; // a support (or an earlier tie) wins
+            c.add_line(slave);
+            c.add_entry(slave, master[d], 1.0);
+            for (unsigned int b = 0; b < 3; ++b)
+              if (C[d][b] != 0) c.add_entry(slave, master[3 + b], C[d][b]);
+          }
+      }
+  };
+
+  for (const auto &tie : description.ties)
+    {
+      const unsigned int a = description.arm_index(tie.arm);
+      const auto root = arm_node_dofs(a, 0.0);
+      const Point<3> x_root = arm_models[a]->arm().curve->position(0.0);
+      const std::string what = "tie of arm '" + tie.arm + "' (root at " + point_text(x_root) + ")";
+      const auto region = region_nodes(tie.region, x_root, "Body/Ties", what);
+      if (tie.kind == TieKind::rigid)
+        {
+          rigid(region, root, x_root);
+          continue;
+        }
+      // Distributing: u_root = mean(u_n) + theta x (x_root - x_c),
+      // theta = A^{-1} sum_n w (r_n x u_n), A = sum_n w (|r_n|^2 1 - r_n r_n^T), r_n = x_n - x_c.
+      const double w = 1.0 / region.size();
+      Point<3> x_c;
+      for (const auto n : region) x_c += w * nodes[n].x;
+      Tensor<2, 3> A;
+      double scale = 0;
+      for (const auto n : region)
+        {
+          const Tensor<1, 3> r = nodes[n].x - x_c;
+          A += w * ((r * r) * unit_symmetric_tensor<3>() - outer_product(r, r));
+          scale = std::max(scale, r.norm_square());
+        }
+      if (!(std::abs(determinant(A)) > 1e-10 * std::pow(scale, 3)))
+        throw InputError("Body/Ties", what + ": the region's nodes are (nearly) collinear, so they cannot carry the "
+                                      "arm root's rotation; use a larger region or a rigid tie");
+      const Tensor<2, 3> A_inv = invert(A);
+      const Tensor<2, 3> D = cross_matrix_of_rotation(x_root - x_c);
+      for (unsigned int d = 0; d < 6; ++d)
+        if (c.is_constrained(root[d]))
+          throw InputError("Body/Ties", what + ": the arm root is supported; a distributing tie needs it free");
+      std::array<std::map<unsigned int, double>, 6> coefficient; // a dof can appear in several terms
+      for (const auto n : region)
+        {
+          // d theta / d u_n = w A^{-1} [r_n x]
+          const Tensor<1, 3> r = nodes[n].x - x_c;
+          const Tensor<2, 3> G = w * A_inv * (-cross_matrix_of_rotation(r));
+          for (unsigned int k = 0; k < 3; ++k) // component k of u_n
+            {
+              const unsigned int dof = nodes[n].u[k];
+              coefficient[k][dof] += w;
+              for (unsigned int b = 0; b < 3; ++b)
+                {
+                  coefficient[3 + b][dof] += G[b][k];
+                  for (unsigned int d = 0; d < 3; ++d) // (theta x (x_root - x_c))_d
+                    coefficient[d][dof] += D[d][b] * G[b][k];
+                }
+            }
+        }
+      for (unsigned int d = 0; d < 6; ++d)
+        {
+          c.add_line(root[d]);
+          for (const auto &[dof, v] : coefficient[d])
+            if (v != 0) c.add_entry(root[d], dof, v);
+        }
+    }
+
+  for (unsigned int i = 0; i < description.interfaces.size(); ++i)
+    {
+      const auto &p = description.interfaces[i];
+      std::array<unsigned int, 6> dofs;
+      Point<3> x;
+      if (!p.arm.empty())
+        {
+          const unsigned int a = description.arm_index(p.arm);
+          dofs = arm_node_dofs(a, p.s);
+          x = arm_models[a]->arm().curve->position(p.s);
+        }
+      else
+        {
+          for (unsigned int d = 0; d < 6; ++d) dofs[d] = ref_node_of_interface[i] + d;
+          x = p.position;
+          const std::string what = "interface '" + p.name + "' at " + point_text(x);
+          rigid(region_nodes(p.region, x, "Body/Interfaces", what), dofs, x);
+          Node n;
+          n.x = x;
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              n.u[d] = dofs[d];
+              n.theta[d] = dofs[3 + d];
+            }
+          nodes.push_back(n);
+        }
+      for (unsigned int d = 0; d < 6; ++d)
+        if (c.is_constrained(dofs[d]))
+          throw InputError("Body/Interfaces", "interface '" + p.name + "' at " + point_text(x) +
+                                                " lies on a support or at the root of a distributing tie, so its "
+                                                "dofs are not free; move it");
+      interface_full_dofs.push_back(dofs);
+      interface_list.push_back({p.name, x, {}});
+    }
+  for (const auto &m : description.point_masses)
+    {
+      const auto &dofs = interface_full_dofs[description.interface_index(m.interface)];
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          point_mass_entries.push_back({{{dofs[d], dofs[d]}}, m.mass});
+          for (unsigned int e = 0; e < 3; ++e)
+            if (m.inertia[d][e] != 0) point_mass_entries.push_back({{{dofs[3 + d], dofs[3 + e]}}, m.inertia[d][e]});
+        }
+    }
+  c.close();
+
+  // T: the independent dofs, numbered in order, and every full dof as their combination.
+  std::vector<int> column(n_full, -1);
+  for (unsigned int i = 0; i < n_full; ++i)
+    if (!c.is_constrained(i))
+      {
+        column[i] = n_body_dofs++;
+        full_of_column.push_back(i);
+      }
+  t_start.assign(1, 0);
+  for (unsigned int i = 0; i < n_full; ++i)
+    {
+      if (column[i] >= 0)
+        t_entries.push_back({static_cast<unsigned int>(column[i]), 1.0});
+      else if (const auto *line = c.get_constraint_entries(i))
+        for (const auto &[j, v] : *line)
+          if (v != 0) t_entries.push_back({static_cast<unsigned int>(column[j]), v});
+      t_start.push_back(t_entries.size());
+    }
+  for (unsigned int i = 0; i < interface_list.size(); ++i)
+    for (unsigned int d = 0; d < 6; ++d) interface_list[i].dofs[d] = column[interface_full_dofs[i][d]];
+}
+
+void BodyModel::condense_matrices()
+{
+  // T^T A T entry by entry: row i of a part, column j, value v adds v T(i,a) T(j,b) at (a, b).
+  // Epetra sums repeated entries of a row when the matrix is completed.
+  const Epetra_MpiComm comm(MPI_COMM_SELF);
+  const Epetra_Map map(static_cast<int>(n_body_dofs), 0, comm);
+  Epetra_CrsMatrix K(Copy, map, 1), M(Copy, map, 1);
+  std::vector<int> columns;
+  std::vector<double> k_values, m_values;
+  auto add_row = [&](const unsigned int i, const unsigned int n, const int *cols, const double *kv,
+                     const double *mv) {
+    for (unsigned int a = t_start[i]; a < t_start[i + 1]; ++a)
+      {
+        columns.clear();
+        k_values.clear();
+        m_values.clear();
+        for (unsigned int e = 0; e < n; ++e)
+          for (unsigned int b = t_start[cols[e]]; b < t_start[cols[e] + 1]; ++b)
+            {
+              columns.push_back(t_entries[b].column);
+              const double t = t_entries[a].value * t_entries[b].value;
+              k_values.push_back(kv[e] * t);
+              m_values.push_back(mv[e] * t);
+            }
+        const int row = t_entries[a].column;
+        K.InsertGlobalValues(row, columns.size(), k_values.data(), columns.data());
+        M.InsertGlobalValues(row, columns.size(), m_values.data(), columns.data());
+      }
+  };
+  auto add_part = [&](const TrilinosWrappers::SparseMatrix &Kp, const TrilinosWrappers::SparseMatrix &Mp,
+                      const unsigned int offset) {
+    const Epetra_CrsMatrix &k = Kp.trilinos_matrix(), &m = Mp.trilinos_matrix();
+    std::vector<int> cols;
+    std::vector<double> mv;
+    for (int r = 0; r < k.NumMyRows(); ++r)
+      {
+        int nk, nm, *ik, *im;
+        double *vk, *vm;
+        k.ExtractMyRowView(r, nk, vk, ik);
+        m.ExtractMyRowView(r, nm, vm, im);
+        // K and M come from one pattern; match M's entries to K's columns all the same.
+        cols.resize(nk);
+        mv.assign(nk, 0.0);
+        for (int e = 0; e < nk; ++e) cols[e] = k.ColMap().GID(ik[e]) + offset;
+        for (int e = 0, f = 0; e < nm; ++e)
+          {
+            while (f < nk && ik[f] != im[e]) ++f;
+            AssertThrow(f < nk, ExcMessage("K and M of a part have different sparsity patterns"));
+            mv[f] = vm[e];
+          }
+        add_row(k.RowMap().GID(r) + offset, nk, cols.data(), vk, mv.data());
+      }
+  };
+  if (solid) add_part(solid->stiffness_matrix(), solid->mass_matrix(), 0);
+  for (unsigned int a = 0; a < arm_models.size(); ++a)
+    add_part(arm_models[a]->stiffness_matrix(), arm_models[a]->mass_matrix(), arm_offsets[a]);
+  for (const auto &[ij, value] : point_mass_entries)
+    {
+      const int col = ij[1];
+      const double zero = 0.0;
+      add_row(ij[0], 1, &col, &zero, &value);
+    }
+  // Rows of independent dofs that no part touches (cannot happen for a connected body) would
+  // make the matrices singular; give them a diagonal so the failure is a clear solver message.
+  K.FillComplete();
+  M.FillComplete();
+  stiffness.reinit(K);
+  mass.reinit(M);
+}
+
+Vector<double> BodyModel::expand(const Vector<double> &y) const
+{
+  Vector<double> x(n_full);
+  for (unsigned int i = 0; i < n_full; ++i)
+    for (unsigned int a = t_start[i]; a < t_start[i + 1]; ++a) x[i] += t_entries[a].value * y[t_entries[a].column];
+  return x;
+}
+
+Vector<double> BodyModel::condense(const Vector<double> &f) const
+{
+  Vector<double> g(n_body_dofs);
+  for (unsigned int i = 0; i < n_full; ++i)
+    if (f[i] != 0)
+      for (unsigned int a = t_start[i]; a < t_start[i + 1]; ++a) g[t_entries[a].column] += t_entries[a].value * f[i];
+  return g;
+}
+
+void BodyModel::full_mass_vmult(Vector<double> &dst, const Vector<double> &src) const
+{
+  dst.reinit(n_full);
+  auto part = [&](const TrilinosWrappers::SparseMatrix &M, const unsigned int offset) {
+    const Epetra_CrsMatrix &m = M.trilinos_matrix();
+    for (int r = 0; r < m.NumMyRows(); ++r)
+      {
+        int n, *idx;
+        double *v;
+        m.ExtractMyRowView(r, n, v, idx);
+        double sum = 0;
+        for (int e = 0; e < n; ++e) sum += v[e] * src[offset + m.ColMap().GID(idx[e])];
+        dst[offset + m.RowMap().GID(r)] += sum;
+      }
+  };
+  if (solid) part(solid->mass_matrix(), 0);
+  for (unsigned int a = 0; a < arm_models.size(); ++a) part(arm_models[a]->mass_matrix(), arm_offsets[a]);
+  for (const auto &[ij, value] : point_mass_entries) dst[ij[0]] += value * src[ij[1]];
+}
+
+std::array<Vector<double>, 6> BodyModel::rigid_body_modes() const
+{
+  // Rigid motions satisfy every constraint, so their values at the independent dofs define
+  // them: set them on the full nodes and keep the independent entries.
+  std::array<Vector<double>, 6> r;
+  for (unsigned int k = 0; k < 6; ++k)
+    {
+      Vector<double> x(n_full);
+      for (const auto &n : nodes)
+        {
+          Tensor<1, 3> u;
+          if (k < 3)
+            u[k] = 1;
+          else
+            u = cross_product_3d(Tensor<1, 3>(Point<3>::unit_vector(k - 3)), Tensor<1, 3>(n.x));
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              x[n.u[d]] = u[d];
+              if (n.theta[d] >= 0) x[n.theta[d]] = k >= 3 && d == k - 3;
+            }
+        }
+      r[k].reinit(n_body_dofs);
+      for (unsigned int j = 0; j < n_body_dofs; ++j) r[k][j] = x[full_of_column[j]];
+    }
+  return r;
+}
+
+Vector<double> BodyModel::arm_point_load(const unsigned int a, const double s, const Tensor<1, 3> &F) const
+{
+  const Vector<double> f_arm = arm_models[a]->point_load(s, F);
+  Vector<double> f(n_full);
+  for (unsigned int i = 0; i < f_arm.size(); ++i) f[arm_offsets[a] + i] = f_arm[i];
+  return condense(f);
+}
+
+Tensor<1, 3> BodyModel::arm_displacement(const unsigned int a, const double s, const Vector<double> &y) const
+{
+  const Vector<double> x = expand(y);
+  Vector<double> u(arm_models[a]->n_dofs());
+  for (unsigned int i = 0; i < u.size(); ++i) u[i] = x[arm_offsets[a] + i];
+  return arm_models[a]->displacement_at(s, u);
+}
+} // namespace flextrack::fem

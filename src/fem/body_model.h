@@ -1,0 +1,117 @@
+// Finite element model of one flexible body: its solid part and arms assembled side by side
+// ("full" dofs: solid, then every arm, then the 6 dofs of each interface point on the solid),
+// joined by linear multipoint constraints, and condensed to the independent ("body") dofs.
+//
+// Constraints, all homogeneous and linear, x_full = T y_body:
+//  - supports of the solid and the arms: the dof is zero;
+//  - rigid tie (arm root to a solid region) and interface point on the solid: every region node
+//    moves with the master's rigid motion, u_n = u_m + theta_m x (x_n - x_m);
+//  - distributing tie: the arm root follows the region, u_r = mean(u_n) + theta x (x_r - x_c),
+//    with theta the least-squares rotation of the region about its centroid x_c.
+// Rigid motions satisfy every tie exactly, so a free body keeps its six zero-energy modes.
+// The condensed matrices are T^T K T and T^T M T (serial Trilinos matrices with one sparsity
+// pattern); the full mass, with point masses, stays available for inertia integrals.
+#pragma once
+
+#include <fem/body.h>
+#include <fem/curved_beam_model.h>
+#include <fem/solid_model.h>
+
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace flextrack::fem
+{
+class BodyModel
+{
+public:
+  /// Builds the parts' models and the constraints. Throws InputError for ties or interfaces
+  /// that find no nodes, or interfaces that lie on a support.
+  explicit BodyModel(const Body &body);
+  ~BodyModel();
+
+  // --- the condensed (independent) dofs y --------------------------------------------------
+  unsigned int n_dofs() const { return n_body_dofs; }
+  const dealii::TrilinosWrappers::SparseMatrix &stiffness_matrix() const { return stiffness; }
+  const dealii::TrilinosWrappers::SparseMatrix &mass_matrix() const { return mass; }
+  /// True if any dof is fixed by a support (the body cannot move rigidly).
+  bool is_supported() const { return supported; }
+
+  struct Interface
+  {
+    std::string name;
+    dealii::Point<3> position;          ///< [m]
+    std::array<unsigned int, 6> dofs{}; ///< body dofs of (u_x, u_y, u_z, theta_x, theta_y, theta_z)
+  };
+  const std::vector<Interface> &interfaces() const { return interface_list; }
+
+  /// The six rigid-body motions in body dofs: translations e_a (a = 0..2) and small rotations
+  /// e_a x x about the origin (a = 3..5; arm and interface nodes also turn by e_a).
+  std::array<dealii::Vector<double>, 6> rigid_body_modes() const;
+  /// Body-dof load vector T^T f of a point force @p F [N] at arc length @p s [m] of arm @p arm.
+  dealii::Vector<double> arm_point_load(unsigned int arm, double s, const dealii::Tensor<1, 3> &F) const;
+
+  /// Displacement [m] at arc length @p s of arm @p arm for the body-dof vector @p y.
+  dealii::Tensor<1, 3> arm_displacement(unsigned int arm, double s, const dealii::Vector<double> &y) const;
+
+  // --- the full dofs x = T y (for integrals over the body and for drawing it) ---------------
+  unsigned int n_full_dofs() const { return n_full; }
+  dealii::Vector<double> expand(const dealii::Vector<double> &y) const;
+  /// T^T f for a full-dof load vector.
+  dealii::Vector<double> condense(const dealii::Vector<double> &f_full) const;
+  /// dst = M_full src: the parts' consistent mass plus the point masses.
+  void full_mass_vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+
+  /// A node of the full model: its position and its full dofs (theta = -1 on solid nodes).
+  struct Node
+  {
+    dealii::Point<3> x;
+    std::array<int, 3> u{{-1, -1, -1}};
+    std::array<int, 3> theta{{-1, -1, -1}};
+  };
+  const std::vector<Node> &full_nodes() const { return nodes; }
+
+  const SolidModel *solid_model() const { return solid.get(); }
+  unsigned int n_arms() const { return arm_models.size(); }
+  const CurvedBeamModel &arm_model(unsigned int a) const { return *arm_models[a]; }
+  unsigned int arm_offset(unsigned int a) const { return arm_offsets[a]; }
+  const std::string &arm_name(unsigned int a) const { return description.arm_names[a]; }
+
+private:
+  struct Entry
+  {
+    unsigned int column;
+    double value;
+  };
+  void collect_nodes();
+  void build_constraints();
+  void condense_matrices();
+  std::vector<unsigned int> region_nodes(const NodeRegion &region, const dealii::Point<3> &centre,
+                                         const std::string &entry, const std::string &what) const;
+  /// Full dofs (u, theta) of the arm node at arc length s.
+  std::array<unsigned int, 6> arm_node_dofs(unsigned int arm, double s) const;
+
+  const Body &description;
+  std::vector<std::unique_ptr<Arm>> arms;  // copies with a mesh node at every interface
+  std::unique_ptr<SolidModel> solid;
+  std::vector<std::unique_ptr<CurvedBeamModel>> arm_models;
+  std::vector<unsigned int> arm_offsets;
+  unsigned int n_full = 0, n_body_dofs = 0;
+  bool supported = false;
+  std::vector<Node> nodes;
+  std::vector<int> node_of_solid_dof; // solid x-dof -> node index
+  std::vector<Interface> interface_list;
+  std::vector<std::array<unsigned int, 6>> interface_full_dofs;
+  std::vector<std::pair<std::array<unsigned int, 2>, double>> point_mass_entries; // full (i, j), value
+  // T, row by row: full dof i -> entries [t_start[i], t_start[i+1]) of t_entries
+  std::vector<unsigned int> t_start;
+  std::vector<Entry> t_entries;
+  std::vector<unsigned int> full_of_column; // the full dof that each independent dof is
+  dealii::TrilinosWrappers::SparseMatrix stiffness, mass;
+};
+} // namespace flextrack::fem

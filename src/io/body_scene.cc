@@ -1,0 +1,176 @@
+#include <io/body_scene.h>
+#include <io/input_error.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace flextrack::io
+{
+using dealii::ParameterHandler;
+namespace fs = std::filesystem;
+
+std::uint64_t fnv1a(const std::string &bytes, std::uint64_t hash)
+{
+  for (const unsigned char c : bytes)
+    {
+      hash ^= c;
+      hash *= 1099511628211ull;
+    }
+  return hash;
+}
+
+namespace
+{
+void declare_model_entry(ParameterHandler &prm)
+{
+  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid|body"),
+                    "The structure of the scene: 'arm' (a curved beam, subsection Arm), 'solid' (a 3D body "
+                    "meshed with hexahedra, subsection Solid) or 'body' (a flexible body of a solid part and "
+                    "named arms, subsection Body, reduced by 'flextrack reduce').");
+}
+
+std::string explain(const dealii::ExceptionBase &e)
+{
+  std::ostringstream s;
+  e.print_info(s);
+  std::string text;
+  for (const char c : s.str())
+    {
+      const char d = c == '\n' ? ' ' : c;
+      if (!(d == ' ' && !text.empty() && text.back() == ' ')) text += d;
+    }
+  return text;
+}
+
+/// Parse text (from a file or a string) into @p prm; deal.II's errors become InputError.
+void parse(ParameterHandler &prm, const std::string &text, const std::string &name, const bool skip_undefined)
+{
+  try
+    {
+      prm.parse_input_from_string(text, "", skip_undefined);
+    }
+  catch (const dealii::ExceptionBase &e)
+    {
+      throw InputError("", explain(e), name);
+    }
+}
+
+std::string read_text(const std::string &file)
+{
+  if (!fs::is_regular_file(file)) throw InputError("", "cannot open the parameter file (missing or not a file); give an existing .prm file", file);
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError("", "cannot read the parameter file", file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Every parameter except the Output subsection, in deal.II's canonical short form, plus the
+/// bytes of every file that a value names.
+std::string hash_inputs(const ParameterHandler &prm, const std::string &directory)
+{
+  std::ostringstream printed;
+  prm.print_parameters(printed, ParameterHandler::ShortPRM);
+  std::istringstream lines(printed.str());
+  std::uint64_t h = fnv1a(std::string("flextrack reduced body v1 ") + FLEXTRACK_VERSION);
+  int skip_depth = 0, depth = 0;
+  for (std::string line; std::getline(lines, line);)
+    {
+      const auto start = line.find_first_not_of(' ');
+      const std::string t = start == std::string::npos ? "" : line.substr(start);
+      if (t.rfind("subsection ", 0) == 0)
+        {
+          ++depth;
+          if (skip_depth == 0 && depth == 1 && t == "subsection Output") skip_depth = depth;
+        }
+      else if (t == "end")
+        {
+          if (skip_depth == depth) skip_depth = 0;
+          --depth;
+          continue;
+        }
+      if (skip_depth) continue;
+      h = fnv1a(t + "\n", h);
+      if (const auto eq = t.find(" = "); t.rfind("set ", 0) == 0 && eq != std::string::npos)
+        {
+          const std::string value = t.substr(eq + 3);
+          if (value.empty() || value.find_first_of("\n,;") != std::string::npos) continue;
+          const fs::path p = fs::path(value).is_absolute() ? fs::path(value) : fs::path(directory) / value;
+          std::error_code ec;
+          if (fs::is_regular_file(p, ec))
+            {
+              std::ifstream in(p, std::ios::binary);
+              std::ostringstream bytes;
+              bytes << in.rdbuf();
+              h = fnv1a(bytes.str(), h);
+            }
+        }
+    }
+  std::ostringstream hex;
+  hex << std::hex << std::setw(16) << std::setfill('0') << h;
+  return hex.str();
+}
+
+BodyScene read(const std::string &text, const std::string &name, const std::string &directory)
+{
+  // Pass 1: the model kind and the arm names.
+  ParameterHandler first;
+  declare_model_entry(first);
+  fem::Body::declare_arm_list(first);
+  parse(first, text, name, true);
+  try
+    {
+      if (first.get("Model") != "body")
+        throw InputError("Model", "'" + first.get("Model") + "' scenes are analysed by 'flextrack modes'; "
+                                  "'flextrack reduce' needs 'Model = body'");
+      const auto names = fem::Body::parse_arm_list(first);
+      // Pass 2: everything, strictly.
+      BodyScene scene;
+      scene.file = name;
+      scene.parameters = std::make_shared<ParameterHandler>();
+      declare_body_scene(*scene.parameters, names);
+      parse(*scene.parameters, text, name, false);
+      auto &prm = *scene.parameters;
+      scene.body = fem::Body::parse_parameters(prm, directory);
+      scene.reduction = reduction::ReductionSettings::parse_parameters(prm);
+      scene.output = OutputSettings::parse_parameters(prm);
+      scene.input_hash = hash_inputs(prm, directory);
+      return scene;
+    }
+  catch (const InputError &e)
+    {
+      throw e.in_file(name);
+    }
+}
+} // namespace
+
+void declare_body_scene(ParameterHandler &prm, const std::vector<std::string> &arm_names)
+{
+  declare_model_entry(prm);
+  fem::Body::declare_parameters(prm, arm_names);
+  reduction::ModalSettings::declare_parameters(prm);
+  reduction::ReductionSettings::declare_parameters(prm);
+  OutputSettings::declare_parameters(prm);
+}
+
+std::string model_kind(const std::string &file)
+{
+  ParameterHandler first;
+  declare_model_entry(first);
+  parse(first, read_text(file), file, true);
+  return first.get("Model");
+}
+
+BodyScene read_body_scene(const std::string &file)
+{
+  const auto parent = fs::path(file).parent_path().string();
+  return read(read_text(file), file, parent.empty() ? "." : parent);
+}
+
+BodyScene read_body_scene_from_string(const std::string &text, const std::string &directory)
+{
+  return read(text, "<string>", directory);
+}
+} // namespace flextrack::io

@@ -1,0 +1,45 @@
+// A reduction scene: one flexible body (solid part, arms, ties, interfaces, point masses), its
+// reduction settings and the output settings, read from a parameter file with "Model = body".
+// Arms are named in "Body/Arms" and each has its own "subsection Arm NAME", so the file is read
+// twice: once for the names, once strictly with every subsection declared.
+#pragma once
+
+#include <fem/body.h>
+#include <io/arm_scene.h>
+#include <reduction/component_modes.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace flextrack::io
+{
+struct BodyScene
+{
+  std::string file;
+  fem::Body body;
+  reduction::ReductionSettings reduction;
+  OutputSettings output;
+  /// 64-bit FNV-1a hash (hex) of every input that affects the reduced body: all parameters
+  /// except "Output", and the contents of every file a parameter names (meshes, point files).
+  std::string input_hash;
+  /// The parameters as read (for parameters_used.prm and summary.json).
+  std::shared_ptr<dealii::ParameterHandler> parameters;
+};
+
+/// Declares everything a body scene may contain, with "subsection Arm NAME" for each name.
+void declare_body_scene(dealii::ParameterHandler &prm, const std::vector<std::string> &arm_names);
+
+/// The value of the top-level entry "Model" of a parameter file (arm, solid or body), so that
+/// a command can pick the right reader. Throws InputError.
+std::string model_kind(const std::string &file);
+
+BodyScene read_body_scene(const std::string &file);
+/// Same, from parameter text (tests); @p directory resolves relative file names.
+BodyScene read_body_scene_from_string(const std::string &text, const std::string &directory = ".");
+
+/// 64-bit FNV-1a hash of @p bytes, continuing from @p hash.
+std::uint64_t fnv1a(const std::string &bytes, std::uint64_t hash = 14695981039346656037ull);
+} // namespace flextrack::io

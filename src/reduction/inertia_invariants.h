@@ -1,0 +1,76 @@
+// Inertia invariants of a reduced flexible body (Shabana, Dynamics of Multibody Systems, ch. 5;
+// Wallrapp's SID): volume integrals over the body computed once, from the consistent mass
+// matrix, so that time stepping never loops over elements. With x the undeformed position of a
+// point (body frame), Phi the mode shapes (translation part) and u = x + Phi eta:
+//   m = int rho,  s = int rho x,  J_O = int rho (x.x 1 - x x^T) (+ section rotary inertia)
+//   I3 = int rho Phi                      (3 x n)
+//   I4 = int rho x~ Phi (+ rotary inertia of arm sections and point masses turning with Phi)
+//   P_k = int rho phi_k x^T               (3 x 3 per mode)
+//   Q_jk = int rho phi_j phi_k^T          (3 x 3 per pair of modes)
+// Each integral int rho a b is a^T M b, with M the consistent mass matrix of the full model and
+// a, b translation fields. The terms that are quadratic in the modes (P, Q) take the
+// translations only: the rotary inertia of thin arm sections is neglected there (relative size
+// (section radius / arm length)^2).
+//
+// FloatingFrameInertia evaluates, for the coordinates (R, omega, eta) - R the frame origin
+// (global), omega the angular velocity in body axes, eta the modal coordinates - the mass matrix
+// M(A, eta) and the quadratic-velocity vector Q_v, with M qdd = Q_v + applied forces:
+//   M_RR = m 1, M_Rw = -A S~, M_Rf = A I3, M_ww = J(eta), M_wf = int rho u~ Phi, M_ff = Phi^T M Phi
+//   Q_R = -A (w~ w~ S + 2 w~ I3 etad)
+//   Q_w = -(w~ J w + 2 sum_k etad_k (tr(Ph_k) w - Ph_k w))
+//   Q_k = -(w^T Ph_k w - |w|^2 tr(Ph_k) + 2 w . sum_j etad_j I5_jk)
+// with S = s + I3 eta, Ph_k = int rho phi_k u^T = P_k + sum_j eta_j Q_kj, I5_jk = int rho phi_j x phi_k.
+#pragma once
+
+#include <fem/body_model.h>
+
+#include <deal.II/base/tensor.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <vector>
+
+namespace flextrack::reduction
+{
+struct InertiaInvariants
+{
+  double mass = 0;                           ///< m [kg]
+  dealii::Tensor<1, 3> first_moment;         ///< s = int rho x [kg m]
+  dealii::Tensor<2, 3> inertia_origin;       ///< J_O about the body-frame origin [kg m^2]
+  dealii::FullMatrix<double> I3, I4;         ///< 3 x n [kg], [kg m]
+  std::vector<dealii::Tensor<2, 3>> P;       ///< n, [kg m]
+  std::vector<dealii::Tensor<2, 3>> Q;       ///< n * n, Q[j * n + k] [kg]
+  unsigned int n_modes() const { return I3.n(); }
+
+  dealii::Point<3> centre_of_mass() const;                 ///< s / m [m]
+  dealii::Tensor<2, 3> inertia_about_centre_of_mass() const; ///< J_O - m (|c|^2 1 - c c^T) [kg m^2]
+  /// I5_jk = int rho phi_j x phi_k, from Q.
+  dealii::Tensor<1, 3> I5(unsigned int j, unsigned int k) const;
+};
+
+/// The invariants of @p modes (body dofs) of @p body, about the global origin and axes (the body
+/// frame of the undeformed body).
+InertiaInvariants compute_inertia_invariants(const fem::BodyModel &body, const std::vector<dealii::Vector<double>> &modes);
+
+class FloatingFrameInertia
+{
+public:
+  /// @p modal_mass: Phi^T M Phi (n x n).
+  FloatingFrameInertia(const InertiaInvariants &invariants, const dealii::FullMatrix<double> &modal_mass);
+  unsigned int size() const { return 6 + n; }
+  /// Mass matrix (6 + n)^2 for rotation matrix @p A (body to global) and modal coordinates @p eta.
+  void mass_matrix(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta, dealii::FullMatrix<double> &M) const;
+  /// Quadratic-velocity vector (6 + n) at (A, eta) with angular velocity @p omega (body axes) and
+  /// modal velocities @p eta_dot.
+  void quadratic_velocity(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta,
+                          const dealii::Tensor<1, 3> &omega, const dealii::Vector<double> &eta_dot,
+                          dealii::Vector<double> &Qv) const;
+
+private:
+  /// S = s + I3 eta, J(eta), Pe = sum_k eta_k P_k, and Ph_k.
+  unsigned int n;
+  InertiaInvariants inv;
+  dealii::FullMatrix<double> modal_mass;
+  std::vector<dealii::Tensor<1, 3>> i5; // n * n
+};
+} // namespace flextrack::reduction
