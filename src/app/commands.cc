@@ -2,7 +2,9 @@
 // the arm's FE model (geometry, fem), solve the eigenproblem (reduction), write results (io).
 // Nothing is written until every computation has succeeded, so a failed run leaves no
 // half-written results behind.
+#include <app/command_support.h>
 #include <app/commands.h>
+#include <io/body_scene.h>
 #include <fem/curved_beam_model.h>
 #include <io/arm_scene.h>
 #include <io/input_error.h>
@@ -36,27 +38,8 @@ std::string output_directory(const Options &options, const io::ArmScene &scene)
   return "output/" + fs::path(options.file).stem().string();
 }
 
-void make_directory(const std::string &dir)
-{
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw InputError("-o / Output/Directory", "cannot create the output folder '" + dir + "': " + ec.message());
-}
 
-double peak_memory_mib()
-{
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0;
-}
 
-std::string parameters_as_json(const ParameterHandler &prm)
-{
-  std::ostringstream s;
-  prm.print_parameters(s, ParameterHandler::OutputStyle(ParameterHandler::JSON | ParameterHandler::Short));
-  return s.str();
-}
 
 struct ModalRun
 {
@@ -120,17 +103,7 @@ ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, Timer
   return run;
 }
 
-/// Under MPI, the first process writes the text results (every process computes them alike).
-bool is_root() { return Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0; }
 
-void write_text(const std::string &path, const std::string &text)
-{
-  if (!is_root()) return;
-  std::ofstream out(path);
-  out << text;
-  if (!out)
-    throw InputError("-o / Output/Directory", "cannot write '" + path + "'");
-}
 
 std::string describe(const io::ArmScene &scene)
 {
@@ -149,19 +122,7 @@ std::string describe(const io::ArmScene &scene)
   return d.str();
 }
 
-io::JsonObject timings_json(const TimerOutput &timer)
-{
-  io::JsonObject t;
-  for (const auto &[name, seconds] : timer.get_summary_data(TimerOutput::total_wall_time)) t.add(name, seconds);
-  return t;
-}
 
-std::string csv_number(const double v)
-{
-  std::ostringstream o;
-  o << std::setprecision(12) << v;
-  return o.str();
-}
 } // namespace
 
 int modes(const Options &options)
@@ -169,6 +130,7 @@ int modes(const Options &options)
   Timer wall;
   std::ostringstream log;
   TimerOutput timer(log, TimerOutput::never, TimerOutput::wall_times);
+  if (io::model_kind(options.file) == "body") return reduce(options);
   ParameterHandler prm;
   io::declare_arm_scene(prm);
   io::ArmScene scene;
@@ -335,8 +297,10 @@ int converge(const Options &options)
 
 int print_parameters()
 {
+  // Every scene kind: "Model", "Arm" (arm scenes), "Solid", and a body with one arm called NAME.
   ParameterHandler prm;
-  io::declare_arm_scene(prm);
+  io::declare_body_scene(prm, {"NAME"});
+  fem::Arm::declare_parameters(prm);
   prm.print_parameters(std::cout, ParameterHandler::PRM);
   return 0;
 }

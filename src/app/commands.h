@@ -16,6 +16,11 @@ struct Options
 int modes(const Options &options);
 /// The same analysis on K successively halved meshes: convergence.csv, convergence.png.
 int converge(const Options &options);
+/// Reduce the flexible body of a "Model = body" scene: reduced_body.h5 (cached), frequencies.csv,
+/// summary.json.
+int reduce(const Options &options);
+/// Print what a reduced body file holds (checks it thoroughly).
+int inspect(const Options &options);
 /// Every parameter with its default, allowed values, unit and documentation.
 int print_parameters();
 } // namespace flextrack::app

@@ -30,6 +30,9 @@ Usage:
   flextrack converge FILE.prm --refinements K [-o DIR]
                                      the same on K successively halved meshes, with the change
                                      and observed order of convergence of every frequency
+  flextrack reduce FILE.prm [-o DIR] reduce the flexible body of a 'Model = body' scene to
+                                     DIR/reduced_body.h5 (reused while its inputs are unchanged)
+  flextrack inspect BODY.h5          print what a reduced body file holds
   flextrack print-parameters         every parameter: default, allowed values, unit, meaning
   flextrack --help | --version
 
@@ -38,6 +41,8 @@ Results go to DIR (default: output/<FILE name without extension>/):
   summary.json      degrees of freedom, frequencies, wall time per stage, parameters used
   mode_shapes.pvd   mass-normalised mode shapes (VTU series; open in ParaView)
   convergence.csv, convergence.png   (converge)
+  reduced_body.h5   reduced matrices, inertia invariants, interface and arm mode fields (reduce;
+                    layout in doc/reduced_body_file.md)
 Exit status: 0 success, 1 usage error, 2 bad input, 3 solver failure, 4 internal error.
 )";
 
@@ -71,8 +76,8 @@ int dispatch(const std::vector<std::string> &args)
       return 0;
     }
   if (command == "print-parameters") return print_parameters();
-  if (command != "run" && command != "modes" && command != "converge")
-    return usage_error("unknown command '" + command + "'; allowed: run, modes, converge, print-parameters");
+  if (command != "run" && command != "modes" && command != "converge" && command != "reduce" && command != "inspect")
+    return usage_error("unknown command '" + command + "'; allowed: run, modes, converge, reduce, inspect, print-parameters");
 
   Options options;
   bool have_refinements = false;
@@ -105,7 +110,9 @@ int dispatch(const std::vector<std::string> &args)
       else
         return usage_error("more than one parameter file given ('" + options.file + "', '" + args[i] + "')");
     }
-  if (options.file.empty()) return usage_error(command + " needs a parameter file");
+  if (options.file.empty()) return usage_error(command + (command == "inspect" ? " needs a reduced body file" : " needs a parameter file"));
+  if (command == "reduce") return reduce(options);
+  if (command == "inspect") return inspect(options);
   if (command == "converge")
     {
       if (!have_refinements) return usage_error("converge needs --refinements K");

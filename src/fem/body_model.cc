@@ -162,6 +162,7 @@ std::vector<unsigned int> BodyModel::region_nodes(const NodeRegion &region, cons
       found.erase(std::unique(found.begin(), found.end()), found.end());
       if (found.empty())
         throw InputError(entry, what + ": node set '" + region.node_set + "' has no node with degrees of freedom");
+      check_spread(found, entry, what);
       return found;
     }
   double nearest = std::numeric_limits<double>::max();
@@ -179,7 +180,28 @@ std::vector<unsigned int> BodyModel::region_nodes(const NodeRegion &region, cons
         << " (the nearest is " << nearest << " m away); move the point onto the solid or increase the radius";
       throw InputError(entry, m.str());
     }
+  check_spread(found, entry, what);
   return found;
+}
+
+void BodyModel::check_spread(const std::vector<unsigned int> &region, const std::string &entry,
+                             const std::string &what) const
+{
+  // Three displacements cannot carry a rotation unless the nodes span a plane: the second
+  // moment tensor of their positions about the centroid must be regular.
+  Point<3> centre;
+  for (const auto n : region) centre += nodes[n].x / static_cast<double>(region.size());
+  Tensor<2, 3> A;
+  double scale = 0;
+  for (const auto n : region)
+    {
+      const Tensor<1, 3> r = nodes[n].x - centre;
+      A += (r * r) * unit_symmetric_tensor<3>() - outer_product(r, r);
+      scale = std::max(scale, r.norm_square());
+    }
+  if (!(std::abs(determinant(A)) > 1e-10 * std::pow(region.size() * scale, 3)))
+    throw InputError(entry, what + ": the region holds " + std::to_string(region.size()) +
+                              " node(s), all on one line, so it cannot carry a rotation; enlarge the region");
 }
 
 void BodyModel::build_constraints()
@@ -241,16 +263,11 @@ void BodyModel::build_constraints()
       Point<3> x_c;
       for (const auto n : region) x_c += w * nodes[n].x;
       Tensor<2, 3> A;
-      double scale = 0;
       for (const auto n : region)
         {
           const Tensor<1, 3> r = nodes[n].x - x_c;
           A += w * ((r * r) * unit_symmetric_tensor<3>() - outer_product(r, r));
-          scale = std::max(scale, r.norm_square());
         }
-      if (!(std::abs(determinant(A)) > 1e-10 * std::pow(scale, 3)))
-        throw InputError("Body/Ties", what + ": the region's nodes are (nearly) collinear, so they cannot carry the "
-                                      "arm root's rotation; use a larger region or a rigid tie");
       const Tensor<2, 3> A_inv = invert(A);
       const Tensor<2, 3> D = cross_matrix_of_rotation(x_root - x_c);
       for (unsigned int d = 0; d < 6; ++d)

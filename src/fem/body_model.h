@@ -75,6 +75,8 @@ public:
     std::array<int, 3> theta{{-1, -1, -1}};
   };
   const std::vector<Node> &full_nodes() const { return nodes; }
+  /// Index in full_nodes() of the solid node that carries solid dof @p dof (any component).
+  unsigned int node_of_solid(unsigned int dof) const { return node_of_solid_dof[dof]; }
 
   const SolidModel *solid_model() const { return solid.get(); }
   unsigned int n_arms() const { return arm_models.size(); }
@@ -93,6 +95,8 @@ private:
   void condense_matrices();
   std::vector<unsigned int> region_nodes(const NodeRegion &region, const dealii::Point<3> &centre,
                                          const std::string &entry, const std::string &what) const;
+  /// Throws unless the region's nodes span a plane (else they cannot carry a rotation).
+  void check_spread(const std::vector<unsigned int> &region, const std::string &entry, const std::string &what) const;
   /// Full dofs (u, theta) of the arm node at arc length s.
   std::array<unsigned int, 6> arm_node_dofs(unsigned int arm, double s) const;
 

@@ -259,6 +259,11 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
       const double shift = std::isnan(modal.shift) ? automatic_shift(K_eig, M_eig) : modal.shift;
       const Modes modes = lowest_modes(K_eig, M_eig, n_free, modal, shift,
                                        modal.direct_solver == "auto" ? "cholmod" : modal.direct_solver);
+      if (n_rigid == 0 && modes.eigenvalues[0] < 1e-10 * std::abs(modes.eigenvalues.back()))
+        throw SolverError("the " + std::string(free_body ? "body, held at its first interface," : "supported body") +
+                          " still has a zero-energy mode (eigenvalue " + std::to_string(modes.eigenvalues[0]) +
+                          " rad^2/s^2): a mechanism; check Body/Ties (a region that cannot carry the arm root's "
+                          "rotation) and the supports");
       if (n_rigid > 0)
         {
           // The six near-zero modes are the rigid-body motions (replaced by the exact R); a

@@ -130,7 +130,7 @@ FloatingFrameInertia::FloatingFrameInertia(const InertiaInvariants &invariants, 
 
 void FloatingFrameInertia::mass_matrix(const Tensor<2, 3> &A, const Vector<double> &eta, FullMatrix<double> &M) const
 {
-  M.reinit(6 + n, 6 + n, true);
+  M.reinit(6 + n, 6 + n);
   // S = s + I3 eta; J = J_O + 2 tr(Pe) 1 - Pe - Pe^T + tr(Qee) 1 - Qee.
   Tensor<1, 3> S = inv.first_moment;
   Tensor<2, 3> Pe, Qee;

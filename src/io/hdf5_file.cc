@@ -1,0 +1,205 @@
+#include <io/hdf5_file.h>
+
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+namespace flextrack::io
+{
+namespace
+{
+std::string shape_text(const std::vector<hsize_t> &shape)
+{
+  std::ostringstream s;
+  s << "[";
+  for (unsigned int i = 0; i < shape.size(); ++i) s << (i ? ", " : "") << shape[i];
+  s << "]";
+  return s.str();
+}
+
+/// Closes an HDF5 handle when it goes out of scope.
+struct Handle
+{
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Handle()
+  {
+    if (id >= 0) close(id);
+  }
+};
+} // namespace
+
+Hdf5File::Hdf5File(const std::string &name, const Mode mode) : file_name(name)
+{
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // errors are reported by exceptions
+  if (mode == Mode::create)
+    {
+      file = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+      if (file < 0) throw std::runtime_error("cannot create the HDF5 file (is the folder writable?)");
+    }
+  else
+    {
+      if (H5Fis_hdf5(name.c_str()) <= 0) throw std::runtime_error("not an HDF5 file (or a damaged one)");
+      file = H5Fopen(name.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      if (file < 0) throw std::runtime_error("the HDF5 file cannot be opened (damaged or truncated)");
+    }
+}
+
+Hdf5File::~Hdf5File()
+{
+  if (file >= 0) H5Fclose(file);
+}
+
+void Hdf5File::create_group(const std::string &path)
+{
+  Handle gcpl{H5Pcreate(H5P_GROUP_CREATE), H5Pclose};
+  H5Pset_obj_track_times(gcpl.id, false);
+  Handle g{H5Gcreate2(file, path.c_str(), H5P_DEFAULT, gcpl.id, H5P_DEFAULT), H5Gclose};
+  if (g.id < 0) throw std::runtime_error("cannot create group '" + path + "'");
+}
+
+void Hdf5File::write_raw(const std::string &path, const std::vector<hsize_t> &shape, const hid_t file_type,
+                         const hid_t memory_type, const void *data)
+{
+  Handle space{H5Screate_simple(shape.size(), shape.data(), nullptr), H5Sclose};
+  Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+  H5Pset_obj_track_times(dcpl.id, false);
+  Handle set{H5Dcreate2(file, path.c_str(), file_type, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT), H5Dclose};
+  if (set.id < 0) throw std::runtime_error("cannot create dataset '" + path + "'");
+  hsize_t size = 1;
+  for (const auto s : shape) size *= s;
+  if (size > 0 && H5Dwrite(set.id, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+    throw std::runtime_error("cannot write dataset '" + path + "'");
+}
+
+void Hdf5File::write(const std::string &path, const std::vector<hsize_t> &shape, const double *data)
+{
+  write_raw(path, shape, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data);
+}
+
+void Hdf5File::write(const std::string &path, const std::vector<hsize_t> &shape, const unsigned int *data)
+{
+  write_raw(path, shape, H5T_STD_U32LE, H5T_NATIVE_UINT, data);
+}
+
+void Hdf5File::set_attribute(const std::string &object, const std::string &name, const std::string &value)
+{
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, std::max<size_t>(1, value.size()));
+  H5Tset_strpad(type.id, H5T_STR_NULLPAD);
+  Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  Handle a{H5Acreate_by_name(file, object.c_str(), name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose};
+  const std::string padded = value.empty() ? std::string(1, '\0') : value;
+  if (a.id < 0 || H5Awrite(a.id, type.id, padded.data()) < 0)
+    throw std::runtime_error("cannot write attribute '" + name + "' of '" + object + "'");
+}
+
+void Hdf5File::set_attribute(const std::string &object, const std::string &name, const long long value)
+{
+  Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  Handle a{H5Acreate_by_name(file, object.c_str(), name.c_str(), H5T_STD_I64LE, space.id, H5P_DEFAULT, H5P_DEFAULT,
+                             H5P_DEFAULT),
+           H5Aclose};
+  if (a.id < 0 || H5Awrite(a.id, H5T_NATIVE_LLONG, &value) < 0)
+    throw std::runtime_error("cannot write attribute '" + name + "' of '" + object + "'");
+}
+
+bool Hdf5File::exists(const std::string &path) const
+{
+  // Check each level, as H5Lexists fails on a missing intermediate group.
+  std::string partial;
+  std::istringstream parts(path);
+  for (std::string part; std::getline(parts, part, '/');)
+    {
+      if (part.empty()) continue;
+      partial += "/" + part;
+      if (H5Lexists(file, partial.c_str(), H5P_DEFAULT) <= 0) return false;
+    }
+  return true;
+}
+
+std::vector<std::string> Hdf5File::members(const std::string &group) const
+{
+  if (!exists(group)) throw std::runtime_error("group '" + group + "' is missing");
+  std::vector<std::string> names;
+  auto collect = [](hid_t, const char *name, const H5L_info_t *, void *data) -> herr_t {
+    static_cast<std::vector<std::string> *>(data)->push_back(name);
+    return 0;
+  };
+  if (H5Literate_by_name(file, group.c_str(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names, H5P_DEFAULT) < 0)
+    throw std::runtime_error("cannot list group '" + group + "'");
+  return names;
+}
+
+std::vector<hsize_t> Hdf5File::shape(const std::string &path) const
+{
+  if (!exists(path)) throw std::runtime_error("dataset '" + path + "' is missing");
+  Handle set{H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose};
+  if (set.id < 0) throw std::runtime_error("'" + path + "' is not a dataset");
+  Handle space{H5Dget_space(set.id), H5Sclose};
+  const int rank = H5Sget_simple_extent_ndims(space.id);
+  if (rank < 0) throw std::runtime_error("dataset '" + path + "' has no simple shape");
+  std::vector<hsize_t> dims(rank);
+  H5Sget_simple_extent_dims(space.id, dims.data(), nullptr);
+  return dims;
+}
+
+void Hdf5File::read_raw(const std::string &path, const std::vector<hsize_t> &expected_shape, const hid_t memory_type,
+                        void *data) const
+{
+  const auto dims = shape(path);
+  if (dims != expected_shape)
+    throw std::runtime_error("dataset '" + path + "' has shape " + shape_text(dims) + ", expected " +
+                             shape_text(expected_shape));
+  Handle set{H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose};
+  hsize_t size = 1;
+  for (const auto s : dims) size *= s;
+  if (size > 0 && H5Dread(set.id, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+    throw std::runtime_error("cannot read dataset '" + path + "' (damaged file?)");
+}
+
+std::vector<double> Hdf5File::read_doubles(const std::string &path, const std::vector<hsize_t> &expected_shape) const
+{
+  hsize_t size = 1;
+  for (const auto s : expected_shape) size *= s;
+  std::vector<double> v(size);
+  read_raw(path, expected_shape, H5T_NATIVE_DOUBLE, v.data());
+  return v;
+}
+
+std::vector<unsigned int> Hdf5File::read_unsigned(const std::string &path, const std::vector<hsize_t> &expected_shape) const
+{
+  hsize_t size = 1;
+  for (const auto s : expected_shape) size *= s;
+  std::vector<unsigned int> v(size);
+  read_raw(path, expected_shape, H5T_NATIVE_UINT, v.data());
+  return v;
+}
+
+std::string Hdf5File::string_attribute(const std::string &object, const std::string &name) const
+{
+  if (H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) <= 0)
+    throw std::runtime_error("attribute '" + name + "' of '" + object + "' is missing");
+  Handle a{H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  Handle type{H5Aget_type(a.id), H5Tclose};
+  if (H5Tget_class(type.id) != H5T_STRING || H5Tis_variable_str(type.id) > 0)
+    throw std::runtime_error("attribute '" + name + "' of '" + object + "' is not a fixed-length string");
+  std::string value(H5Tget_size(type.id), '\0');
+  if (H5Aread(a.id, type.id, value.data()) < 0) throw std::runtime_error("cannot read attribute '" + name + "'");
+  value.erase(value.find_last_not_of('\0') + 1);
+  return value;
+}
+
+long long Hdf5File::integer_attribute(const std::string &object, const std::string &name) const
+{
+  if (H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) <= 0)
+    throw std::runtime_error("attribute '" + name + "' of '" + object + "' is missing");
+  Handle a{H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  Handle type{H5Aget_type(a.id), H5Tclose};
+  if (H5Tget_class(type.id) != H5T_INTEGER) throw std::runtime_error("attribute '" + name + "' is not an integer");
+  long long value = 0;
+  if (H5Aread(a.id, H5T_NATIVE_LLONG, &value) < 0) throw std::runtime_error("cannot read attribute '" + name + "'");
+  return value;
+}
+} // namespace flextrack::io

@@ -1,0 +1,49 @@
+// A small, strict wrapper of the HDF5 C library (Debian's libhdf5, via deal.II): datasets of
+// doubles and unsigned integers with their shapes, string and integer attributes, groups.
+// Every failure throws std::runtime_error naming the object, and HDF5's own error printing is
+// switched off, so that callers can turn it into one clear message.
+// Datasets and groups are written without modification times, so that the same data give the
+// same bytes.
+#pragma once
+
+#include <hdf5.h>
+
+#include <string>
+#include <vector>
+
+namespace flextrack::io
+{
+class Hdf5File
+{
+public:
+  enum class Mode { create, read };
+  /// create: a new file (an existing one is replaced); read: must be an HDF5 file.
+  Hdf5File(const std::string &name, Mode mode);
+  ~Hdf5File();
+  Hdf5File(const Hdf5File &) = delete;
+  Hdf5File &operator=(const Hdf5File &) = delete;
+
+  void create_group(const std::string &path);
+  void write(const std::string &path, const std::vector<hsize_t> &shape, const double *data);
+  void write(const std::string &path, const std::vector<hsize_t> &shape, const unsigned int *data);
+  void set_attribute(const std::string &object, const std::string &name, const std::string &value);
+  void set_attribute(const std::string &object, const std::string &name, long long value);
+
+  bool exists(const std::string &path) const;
+  /// Names of the members of a group.
+  std::vector<std::string> members(const std::string &group) const;
+  std::vector<hsize_t> shape(const std::string &path) const;
+  /// The dataset at @p path, which must have exactly @p expected_shape.
+  std::vector<double> read_doubles(const std::string &path, const std::vector<hsize_t> &expected_shape) const;
+  std::vector<unsigned int> read_unsigned(const std::string &path, const std::vector<hsize_t> &expected_shape) const;
+  std::string string_attribute(const std::string &object, const std::string &name) const;
+  long long integer_attribute(const std::string &object, const std::string &name) const;
+
+private:
+  void write_raw(const std::string &path, const std::vector<hsize_t> &shape, hid_t file_type, hid_t memory_type,
+                 const void *data);
+  void read_raw(const std::string &path, const std::vector<hsize_t> &expected_shape, hid_t memory_type, void *data) const;
+  std::string file_name;
+  hid_t file = -1;
+};
+} // namespace flextrack::io

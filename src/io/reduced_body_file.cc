@@ -1,0 +1,265 @@
+#include <io/hdf5_file.h>
+#include <io/input_error.h>
+#include <io/reduced_body_file.h>
+
+#include <filesystem>
+#include <unistd.h>
+
+namespace flextrack::io
+{
+using namespace dealii;
+using reduction::ReducedBody;
+
+namespace
+{
+std::vector<double> flatten(const FullMatrix<double> &A)
+{
+  std::vector<double> v;
+  for (unsigned int i = 0; i < A.m(); ++i)
+    for (unsigned int j = 0; j < A.n(); ++j) v.push_back(A(i, j));
+  return v;
+}
+
+FullMatrix<double> unflatten(const std::vector<double> &v, const unsigned int m, const unsigned int n)
+{
+  FullMatrix<double> A(m, n);
+  for (unsigned int i = 0; i < m; ++i)
+    for (unsigned int j = 0; j < n; ++j) A(i, j) = v[i * n + j];
+  return A;
+}
+
+std::vector<double> tensor_data(const Tensor<2, 3> &T)
+{
+  std::vector<double> v;
+  for (unsigned int i = 0; i < 3; ++i)
+    for (unsigned int j = 0; j < 3; ++j) v.push_back(T[i][j]);
+  return v;
+}
+
+Tensor<2, 3> tensor_of(const double *v)
+{
+  Tensor<2, 3> T;
+  for (unsigned int i = 0; i < 3; ++i)
+    for (unsigned int j = 0; j < 3; ++j) T[i][j] = v[3 * i + j];
+  return T;
+}
+
+void write_file(const ReducedBody &b, const std::string &name)
+{
+  Hdf5File f(name, Hdf5File::Mode::create);
+  const hsize_t n = b.n_modes();
+  f.set_attribute("/", "format", reduced_body_format);
+  f.set_attribute("/", "format_version", reduced_body_format_version);
+  f.set_attribute("/", "flextrack_version", FLEXTRACK_VERSION);
+  f.set_attribute("/", "input_hash", b.input_hash);
+  f.set_attribute("/", "method", b.method);
+  f.set_attribute("/", "source", b.source);
+  f.set_attribute("/", "units", "SI: m, kg, s, N, rad");
+  f.set_attribute("/", "n_modes", static_cast<long long>(n));
+  f.set_attribute("/", "n_full_dofs", b.n_full_dofs);
+  f.set_attribute("/", "n_body_dofs", b.n_body_dofs);
+  f.set_attribute("/", "n_normal", b.n_normal);
+  f.set_attribute("/", "n_interface", b.n_interface);
+  f.set_attribute("/", "n_track", b.n_track);
+
+  f.create_group("/reduced");
+  f.write("/reduced/stiffness", {n, n}, flatten(b.stiffness).data());
+  f.write("/reduced/mass", {n, n}, flatten(b.mass).data());
+  f.write("/reduced/damping", {n, n}, flatten(b.damping).data());
+  f.write("/reduced/frequencies_hz", {n}, b.frequencies_hz.data());
+
+  const auto &inv = b.invariants;
+  f.create_group("/inertia");
+  f.write("/inertia/mass", {1}, &inv.mass);
+  f.write("/inertia/first_moment", {3}, &inv.first_moment[0]);
+  f.write("/inertia/inertia_origin", {3, 3}, tensor_data(inv.inertia_origin).data());
+  f.write("/inertia/I3", {3, n}, flatten(inv.I3).data());
+  f.write("/inertia/I4", {3, n}, flatten(inv.I4).data());
+  std::vector<double> P, Q;
+  for (const auto &t : inv.P) for (const double x : tensor_data(t)) P.push_back(x);
+  for (const auto &t : inv.Q) for (const double x : tensor_data(t)) Q.push_back(x);
+  f.write("/inertia/P", {n, 3, 3}, P.data());
+  f.write("/inertia/Q", {n, n, 3, 3}, Q.data());
+
+  f.create_group("/interfaces");
+  for (unsigned int i = 0; i < b.interfaces.size(); ++i)
+    {
+      const auto &p = b.interfaces[i];
+      const std::string g = "/interfaces/" + p.name;
+      f.create_group(g);
+      f.set_attribute(g, "index", i);
+      f.write(g + "/position", {3}, &p.position[0]);
+      f.write(g + "/modes", {6, n}, flatten(p.modes).data());
+    }
+
+  f.create_group("/arms");
+  for (unsigned int a = 0; a < b.arms.size(); ++a)
+    {
+      const auto &arm = b.arms[a];
+      const std::string g = "/arms/" + arm.name;
+      const hsize_t nodes = arm.n_cells() * arm.xi.size();
+      f.create_group(g);
+      f.set_attribute(g, "index", a);
+      f.write(g + "/cell_arc_length", {arm.cell_s.size()}, arm.cell_s.data());
+      f.write(g + "/reference_nodes", {arm.xi.size()}, arm.xi.data());
+      f.write(g + "/positions", {nodes, 3}, arm.positions.data());
+      f.write(g + "/modes", {nodes, n, 6}, arm.values.data());
+    }
+
+  f.create_group("/drawing");
+  const hsize_t P_count = b.points.size();
+  std::vector<double> points;
+  for (const auto &p : b.points) points.insert(points.end(), {p[0], p[1], p[2]});
+  std::vector<unsigned int> quads, lines;
+  for (const auto &q : b.quads) quads.insert(quads.end(), q.begin(), q.end());
+  for (const auto &l : b.lines) lines.insert(lines.end(), l.begin(), l.end());
+  f.write("/drawing/points", {P_count, 3}, points.data());
+  f.write("/drawing/quads", {b.quads.size(), 8}, quads.data());
+  f.write("/drawing/lines", {b.lines.size(), 2}, lines.data());
+  f.write("/drawing/mode_displacements", {n, P_count, 3}, b.point_modes.data());
+}
+
+/// Members of @p group in the order of their "index" attribute.
+std::vector<std::string> in_index_order(const Hdf5File &f, const std::string &group)
+{
+  const auto names = f.members(group);
+  std::vector<std::string> ordered(names.size());
+  for (const auto &name : names)
+    {
+      const long long i = f.integer_attribute(group + "/" + name, "index");
+      if (i < 0 || i >= static_cast<long long>(names.size()) || !ordered[i].empty())
+        throw std::runtime_error("group '" + group + "/" + name + "' has an invalid 'index'");
+      ordered[i] = name;
+    }
+  return ordered;
+}
+
+ReducedBody read_file(const std::string &name)
+{
+  Hdf5File f(name, Hdf5File::Mode::read);
+  std::string format;
+  try
+    {
+      format = f.string_attribute("/", "format");
+    }
+  catch (const std::runtime_error &)
+    {
+      throw std::runtime_error("an HDF5 file, but not a FlexTrack reduced body (no root attribute 'format' = '" +
+                               reduced_body_format + "'); write one with 'flextrack reduce FILE.prm'");
+    }
+  if (format != reduced_body_format)
+    throw std::runtime_error("its format is '" + format + "', not '" + reduced_body_format + "'");
+  const long long version = f.integer_attribute("/", "format_version");
+  if (version != reduced_body_format_version)
+    throw std::runtime_error("format version " + std::to_string(version) + " is not supported (this FlexTrack reads " +
+                             std::to_string(reduced_body_format_version) + "); reduce the body again");
+  ReducedBody b;
+  b.input_hash = f.string_attribute("/", "input_hash");
+  b.method = f.string_attribute("/", "method");
+  b.source = f.string_attribute("/", "source");
+  const long long n_modes = f.integer_attribute("/", "n_modes");
+  if (n_modes < 0 || n_modes > 100000) throw std::runtime_error("attribute 'n_modes' = " + std::to_string(n_modes) + " is invalid");
+  const hsize_t n = n_modes;
+  b.n_full_dofs = f.integer_attribute("/", "n_full_dofs");
+  b.n_body_dofs = f.integer_attribute("/", "n_body_dofs");
+  b.n_normal = f.integer_attribute("/", "n_normal");
+  b.n_interface = f.integer_attribute("/", "n_interface");
+  b.n_track = f.integer_attribute("/", "n_track");
+
+  b.stiffness = unflatten(f.read_doubles("/reduced/stiffness", {n, n}), n, n);
+  b.mass = unflatten(f.read_doubles("/reduced/mass", {n, n}), n, n);
+  b.damping = unflatten(f.read_doubles("/reduced/damping", {n, n}), n, n);
+  b.frequencies_hz = f.read_doubles("/reduced/frequencies_hz", {n});
+
+  auto &inv = b.invariants;
+  inv.mass = f.read_doubles("/inertia/mass", {1})[0];
+  const auto s = f.read_doubles("/inertia/first_moment", {3});
+  for (unsigned int d = 0; d < 3; ++d) inv.first_moment[d] = s[d];
+  inv.inertia_origin = tensor_of(f.read_doubles("/inertia/inertia_origin", {3, 3}).data());
+  inv.I3 = unflatten(f.read_doubles("/inertia/I3", {3, n}), 3, n);
+  inv.I4 = unflatten(f.read_doubles("/inertia/I4", {3, n}), 3, n);
+  const auto P = f.read_doubles("/inertia/P", {n, 3, 3}), Q = f.read_doubles("/inertia/Q", {n, n, 3, 3});
+  for (hsize_t k = 0; k < n; ++k) inv.P.push_back(tensor_of(&P[9 * k]));
+  for (hsize_t k = 0; k < n * n; ++k) inv.Q.push_back(tensor_of(&Q[9 * k]));
+
+  for (const auto &name : in_index_order(f, "/interfaces"))
+    {
+      const std::string g = "/interfaces/" + name;
+      const auto x = f.read_doubles(g + "/position", {3});
+      b.interfaces.push_back({name, Point<3>(x[0], x[1], x[2]), unflatten(f.read_doubles(g + "/modes", {6, n}), 6, n)});
+    }
+  for (const auto &name : in_index_order(f, "/arms"))
+    {
+      const std::string g = "/arms/" + name;
+      reduction::ArmModeData arm;
+      arm.name = name;
+      arm.n_modes = n;
+      const auto cells = f.shape(g + "/cell_arc_length"), nodes = f.shape(g + "/reference_nodes");
+      if (cells.size() != 1 || cells[0] < 2 || nodes.size() != 1 || nodes[0] < 2 || nodes[0] > 8)
+        throw std::runtime_error("arm '" + name + "': invalid cell_arc_length or reference_nodes");
+      arm.cell_s = f.read_doubles(g + "/cell_arc_length", cells);
+      arm.xi = f.read_doubles(g + "/reference_nodes", nodes);
+      const hsize_t count = (cells[0] - 1) * nodes[0];
+      arm.positions = f.read_doubles(g + "/positions", {count, 3});
+      arm.values = f.read_doubles(g + "/modes", {count, n, 6});
+      b.arms.push_back(std::move(arm));
+    }
+
+  const auto points_shape = f.shape("/drawing/points");
+  if (points_shape.size() != 2 || points_shape[1] != 3) throw std::runtime_error("dataset '/drawing/points' is not P x 3");
+  const hsize_t P_count = points_shape[0];
+  const auto points = f.read_doubles("/drawing/points", {P_count, 3});
+  for (hsize_t i = 0; i < P_count; ++i) b.points.emplace_back(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+  const auto quads_shape = f.shape("/drawing/quads"), lines_shape = f.shape("/drawing/lines");
+  if (quads_shape.size() != 2 || quads_shape[1] != 8 || lines_shape.size() != 2 || lines_shape[1] != 2)
+    throw std::runtime_error("datasets '/drawing/quads' (Q x 8) or '/drawing/lines' (E x 2) have the wrong shape");
+  const auto quads = f.read_unsigned("/drawing/quads", quads_shape), lines = f.read_unsigned("/drawing/lines", lines_shape);
+  for (hsize_t i = 0; i < quads_shape[0]; ++i)
+    {
+      std::array<unsigned int, 8> q;
+      for (unsigned int j = 0; j < 8; ++j)
+        if ((q[j] = quads[8 * i + j]) >= P_count) throw std::runtime_error("'/drawing/quads' refers to a missing point");
+      b.quads.push_back(q);
+    }
+  for (hsize_t i = 0; i < lines_shape[0]; ++i)
+    {
+      if (lines[2 * i] >= P_count || lines[2 * i + 1] >= P_count)
+        throw std::runtime_error("'/drawing/lines' refers to a missing point");
+      b.lines.push_back({{lines[2 * i], lines[2 * i + 1]}});
+    }
+  b.point_modes = f.read_doubles("/drawing/mode_displacements", {n, P_count, 3});
+  return b;
+}
+} // namespace
+
+void write_reduced_body(const ReducedBody &body, const std::string &file)
+{
+  namespace fs = std::filesystem;
+  const std::string temporary = file + ".writing-" + std::to_string(getpid());
+  try
+    {
+      write_file(body, temporary);
+      fs::rename(temporary, file);
+    }
+  catch (const std::exception &e)
+    {
+      std::error_code ignore;
+      fs::remove(temporary, ignore);
+      throw InputError("", std::string("cannot write the reduced body: ") + e.what(), file);
+    }
+}
+
+ReducedBody read_reduced_body(const std::string &file)
+{
+  if (!std::filesystem::is_regular_file(file))
+    throw InputError("", "the reduced body file does not exist (write it with 'flextrack reduce FILE.prm')", file);
+  try
+    {
+      return read_file(file);
+    }
+  catch (const std::runtime_error &e)
+    {
+      throw InputError("", std::string("not a valid reduced body: ") + e.what(), file);
+    }
+}
+} // namespace flextrack::io

@@ -1,0 +1,19 @@
+// The reduced body file: HDF5, layout in doc/reduced_body_file.md. Written atomically (to a
+// temporary name in the same folder, then renamed), so a failed or interrupted run never leaves
+// a half-written file under the final name. Reading checks the format tag, the version and
+// every dataset's shape, and throws InputError naming the file and the offending object.
+#pragma once
+
+#include <reduction/reduced_body.h>
+
+#include <string>
+
+namespace flextrack::io
+{
+/// Format tag stored in the root attribute "format".
+inline const std::string reduced_body_format = "FlexTrack reduced body";
+inline constexpr long long reduced_body_format_version = 1;
+
+void write_reduced_body(const reduction::ReducedBody &body, const std::string &file);
+reduction::ReducedBody read_reduced_body(const std::string &file);
+} // namespace flextrack::io
