@@ -4,6 +4,8 @@
 file(REMOVE_RECURSE "${OUT}")
 set(ENV{OMPI_ALLOW_RUN_AS_ROOT} 1)
 set(ENV{OMPI_ALLOW_RUN_AS_ROOT_CONFIRM} 1)
+# Two processes on two cores: one BLAS thread each (OpenBLAS would start one per core).
+set(ENV{OPENBLAS_NUM_THREADS} 1)
 execute_process(COMMAND ${EXE} modes ${PRM} -o ${OUT}/serial RESULT_VARIABLE rc1)
 execute_process(COMMAND ${MPIRUN} -np 2 --oversubscribe ${EXE} modes ${PRM} -o ${OUT}/mpi RESULT_VARIABLE rc2)
 if(NOT rc1 EQUAL 0 OR NOT rc2 EQUAL 0)

@@ -33,6 +33,10 @@ Usage:
   flextrack reduce FILE.prm [-o DIR] reduce the flexible body of a 'Model = body' scene to
                                      DIR/reduced_body.h5 (reused while its inputs are unchanged)
   flextrack inspect BODY.h5          print what a reduced body file holds
+  flextrack export --format FORMAT BODY.h5 [-o DIR]
+                                     the reduced body for other tools: 'mbdyn' (BODY.fem modal
+                                     element data + BODY.elm joint statement), 'vtu' (mode
+                                     shapes, BODY_modes.vtu, for ParaView / meshio)
   flextrack print-parameters         every parameter: default, allowed values, unit, meaning
   flextrack --help | --version
 
@@ -76,8 +80,10 @@ int dispatch(const std::vector<std::string> &args)
       return 0;
     }
   if (command == "print-parameters") return print_parameters();
-  if (command != "run" && command != "modes" && command != "converge" && command != "reduce" && command != "inspect")
-    return usage_error("unknown command '" + command + "'; allowed: run, modes, converge, reduce, inspect, print-parameters");
+  if (command != "run" && command != "modes" && command != "converge" && command != "reduce" && command != "inspect" &&
+      command != "export")
+    return usage_error("unknown command '" + command +
+                       "'; allowed: run, modes, converge, reduce, inspect, export, print-parameters");
 
   Options options;
   bool have_refinements = false;
@@ -103,6 +109,13 @@ int dispatch(const std::vector<std::string> &args)
               return usage_error("--refinements must be an integer from 1 to 12, not '" + args[i] + "'");
             }
         }
+      else if (args[i] == "--format" && command == "export")
+        {
+          if (++i == args.size()) return usage_error("--format needs a format name: mbdyn or vtu");
+          options.format = args[i];
+          if (options.format != "mbdyn" && options.format != "vtu")
+            return usage_error("unknown export format '" + options.format + "'; allowed: mbdyn, vtu");
+        }
       else if (!args[i].empty() && args[i][0] == '-')
         return usage_error("unknown option '" + args[i] + "' for " + command);
       else if (options.file.empty())
@@ -110,9 +123,14 @@ int dispatch(const std::vector<std::string> &args)
       else
         return usage_error("more than one parameter file given ('" + options.file + "', '" + args[i] + "')");
     }
-  if (options.file.empty()) return usage_error(command + (command == "inspect" ? " needs a reduced body file" : " needs a parameter file"));
+  if (options.file.empty()) return usage_error(command +  (command == "inspect" || command == "export" ? " needs a reduced body file" : " needs a parameter file"));
   if (command == "reduce") return reduce(options);
   if (command == "inspect") return inspect(options);
+  if (command == "export")
+    {
+      if (options.format.empty()) return usage_error("export needs --format mbdyn or --format vtu");
+      return export_body(options);
+    }
   if (command == "converge")
     {
       if (!have_refinements) return usage_error("converge needs --refinements K");

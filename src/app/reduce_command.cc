@@ -7,6 +7,7 @@
 #include <app/commands.h>
 #include <fem/body_model.h>
 #include <geometry/section_frame.h>
+#include <io/body_export.h>
 #include <io/body_scene.h>
 #include <io/input_error.h>
 #include <io/reduced_body_file.h>
@@ -76,6 +77,7 @@ int reduce(const Options &options)
   // The cache: an existing file with the same input hash is the result.
   reduction::ReducedBody body;
   bool cached = false;
+  io::JsonObject check; // accuracy against the full model, when asked for
   if (fs::exists(file))
     {
       TimerOutput::Scope t(timer, "load cached reduced body");
@@ -114,8 +116,30 @@ int reduce(const Options &options)
             TimerOutput::Scope t(timer, "reduce (eigen and static solves)");
             basis = reduction::reduce(*model, scene.reduction);
           }
-          TimerOutput::Scope t(timer, "invariants, mode fields, drawing");
-          body = reduction::make_reduced_body(*model, basis, scene.reduction.method_name());
+          std::cout << "  reduction steps [s]:";
+          for (const auto &[name, seconds] : basis.timings) std::cout << "  " << name << " " << std::setprecision(3) << seconds << ";";
+          std::cout << std::endl;
+          {
+            TimerOutput::Scope t(timer, "invariants, mode fields, drawing");
+            body = reduction::make_reduced_body(*model, basis, scene.reduction.method_name());
+          }
+          if (const unsigned int n = scene.reduction.n_check_modes; n > 0)
+            {
+              Timer full_timer;
+              const auto full = reduction::full_model_frequencies_hz(*model, scene.reduction, n);
+              const double full_time = full_timer.wall_time();
+              double worst = 0;
+              const auto reduced = basis.frequencies_hz();
+              for (unsigned int k = 0; k < full.size() && k < reduced.size(); ++k)
+                worst = std::max(worst, std::abs(reduced[k] - full[k]) / std::abs(full[k]));
+              std::cout << "  check against the full model: " << full.size() << " lowest frequencies, largest relative "
+                        << "difference " << std::setprecision(3) << worst << " (full eigen solve " << full_time << " s)"
+                        << std::endl;
+              check.add("modes", static_cast<unsigned int>(full.size()))
+                .add("max_relative_frequency_difference", worst)
+                .add("full_model_frequencies_Hz", full)
+                .add("full_model_eigen_solve_wall_time_s", full_time);
+            }
         }
       catch (const geometry::FrameError &e)
         {
@@ -132,8 +156,12 @@ int reduce(const Options &options)
       io::write_reduced_body(body, file);
     }
 
-  // Text results (also after a cache hit: they describe this run).
+  // Text results and exports (also after a cache hit: they describe this run).
   make_directory(dir);
+  std::vector<std::string> exported;
+  for (const auto &format : scene.output.export_formats)
+    for (const auto &f : io::export_reduced_body(body, format, dir, "reduced_body", "Output/Export formats"))
+      exported.push_back(f);
   std::ostringstream csv;
   csv << "mode,frequency_Hz\n";
   for (std::size_t k = 0; k < body.frequencies_hz.size(); ++k) csv << k + 1 << "," << csv_number(body.frequencies_hz[k]) << "\n";
@@ -153,6 +181,7 @@ int reduce(const Options &options)
     .add("modes", body.n_modes())
     .add("frequencies_Hz", body.frequencies_hz)
     .add("mass_kg", body.invariants.mass)
+    .raw("check_against_full_model", cached || scene.reduction.n_check_modes == 0 ? "null" : check.str(4))
     .add("wall_time_s", timings_json(timer))
     .add("total_wall_time_s", wall.wall_time())
     .add("peak_memory_MiB", peak_memory_mib())
@@ -164,7 +193,9 @@ int reduce(const Options &options)
   for (const auto &[name, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))
     std::cout << "  " << name << " " << std::setprecision(3) << seconds << ";";
   std::cout << "  total " << wall.wall_time() << "\n  peak memory: " << std::setprecision(4) << peak_memory_mib()
-            << " MiB\n  results in " << dir << "/ (reduced_body.h5, frequencies.csv, summary.json)" << std::endl;
+            << " MiB\n  results in " << dir << "/ (reduced_body.h5, frequencies.csv, summary.json";
+  for (const auto &f : exported) std::cout << ", " << fs::path(f).filename().string();
+  std::cout << ")" << std::endl;
   return 0;
 }
 

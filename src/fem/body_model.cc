@@ -1,4 +1,5 @@
 #include <fem/body_model.h>
+#include <fem/csr_matrix.h>
 #include <io/input_error.h>
 
 #include <deal.II/base/mpi.h>
@@ -7,6 +8,7 @@
 #include <Epetra_CrsMatrix.h>
 #include <Epetra_Map.h>
 #include <Epetra_MpiComm.h>
+#include <Epetra_MultiVector.h>
 
 #include <algorithm>
 #include <cmath>
@@ -370,30 +372,28 @@ void BodyModel::build_constraints()
 void BodyModel::condense_matrices()
 {
   // T^T A T entry by entry: row i of a part, column j, value v adds v T(i,a) T(j,b) at (a, b).
-  // Epetra sums repeated entries of a row when the matrix is completed.
-  const Epetra_MpiComm comm(MPI_COMM_SELF);
-  const Epetra_Map map(static_cast<int>(n_body_dofs), 0, comm);
-  Epetra_CrsMatrix K(Copy, map, 1), M(Copy, map, 1);
-  std::vector<int> columns;
-  std::vector<double> k_values, m_values;
-  auto add_row = [&](const unsigned int i, const unsigned int n, const int *cols, const double *kv,
-                     const double *mv) {
+  // Two passes over the same contributions: the pattern of every condensed row, then the values.
+  // K and M share the pattern (point masses add explicit zeros to K).
+  std::vector<std::vector<int>> rows(n_body_dofs);
+  CsrMatrix K, M;
+  bool values_pass = false;
+  auto add_row = [&](const unsigned int i, const unsigned int n, const int *cols, const double *kv, const double *mv) {
     for (unsigned int a = t_start[i]; a < t_start[i + 1]; ++a)
       {
-        columns.clear();
-        k_values.clear();
-        m_values.clear();
+        const unsigned int row = t_entries[a].column;
         for (unsigned int e = 0; e < n; ++e)
           for (unsigned int b = t_start[cols[e]]; b < t_start[cols[e] + 1]; ++b)
             {
-              columns.push_back(t_entries[b].column);
-              const double t = t_entries[a].value * t_entries[b].value;
-              k_values.push_back(kv[e] * t);
-              m_values.push_back(mv[e] * t);
+              const int col = t_entries[b].column;
+              if (!values_pass)
+                rows[row].push_back(col);
+              else
+                {
+                  const double t = t_entries[a].value * t_entries[b].value;
+                  K.add(row, col, kv[e] * t);
+                  M.add(row, col, mv[e] * t);
+                }
             }
-        const int row = t_entries[a].column;
-        K.InsertGlobalValues(row, columns.size(), k_values.data(), columns.data());
-        M.InsertGlobalValues(row, columns.size(), m_values.data(), columns.data());
       }
   };
   auto add_part = [&](const TrilinosWrappers::SparseMatrix &Kp, const TrilinosWrappers::SparseMatrix &Mp,
@@ -420,21 +420,26 @@ void BodyModel::condense_matrices()
         add_row(k.RowMap().GID(r) + offset, nk, cols.data(), vk, mv.data());
       }
   };
-  if (solid) add_part(solid->stiffness_matrix(), solid->mass_matrix(), 0);
-  for (unsigned int a = 0; a < arm_models.size(); ++a)
-    add_part(arm_models[a]->stiffness_matrix(), arm_models[a]->mass_matrix(), arm_offsets[a]);
-  for (const auto &[ij, value] : point_mass_entries)
+  for (int pass = 0; pass < 2; ++pass)
     {
-      const int col = ij[1];
-      const double zero = 0.0;
-      add_row(ij[0], 1, &col, &zero, &value);
+      if (solid) add_part(solid->stiffness_matrix(), solid->mass_matrix(), 0);
+      for (unsigned int a = 0; a < arm_models.size(); ++a)
+        add_part(arm_models[a]->stiffness_matrix(), arm_models[a]->mass_matrix(), arm_offsets[a]);
+      for (const auto &[ij, value] : point_mass_entries)
+        {
+          const int col = ij[1];
+          const double zero = 0.0;
+          add_row(ij[0], 1, &col, &zero, &value);
+        }
+      if (pass == 0)
+        {
+          K = CsrMatrix(std::move(rows));
+          M = K;
+          values_pass = true;
+        }
     }
-  // Rows of independent dofs that no part touches (cannot happen for a connected body) would
-  // make the matrices singular; give them a diagonal so the failure is a clear solver message.
-  K.FillComplete();
-  M.FillComplete();
-  stiffness.reinit(K);
-  mass.reinit(M);
+  K.to_trilinos(stiffness);
+  M.to_trilinos(mass);
 }
 
 Vector<double> BodyModel::expand(const Vector<double> &y) const
@@ -472,6 +477,23 @@ void BodyModel::full_mass_vmult(Vector<double> &dst, const Vector<double> &src) 
   if (solid) part(solid->mass_matrix(), 0);
   for (unsigned int a = 0; a < arm_models.size(); ++a) part(arm_models[a]->mass_matrix(), arm_offsets[a]);
   for (const auto &[ij, value] : point_mass_entries) dst[ij[0]] += value * src[ij[1]];
+}
+
+void BodyModel::full_mass_multiply(const double *X, const unsigned int m, double *Y) const
+{
+  std::fill(Y, Y + static_cast<std::size_t>(n_full) * m, 0.0);
+  auto part = [&](const TrilinosWrappers::SparseMatrix &M, const unsigned int offset) {
+    const Epetra_CrsMatrix &A = M.trilinos_matrix();
+    // Views of the part's rows of X and Y (leading dimension n_full).
+    Epetra_MultiVector x(View, A.DomainMap(), const_cast<double *>(X) + offset, n_full, m);
+    Epetra_MultiVector y(View, A.RangeMap(), Y + offset, n_full, m);
+    AssertThrow(A.Multiply(false, x, y) == 0, ExcMessage("Epetra multiply failed"));
+  };
+  if (solid) part(solid->mass_matrix(), 0);
+  for (unsigned int a = 0; a < arm_models.size(); ++a) part(arm_models[a]->mass_matrix(), arm_offsets[a]);
+  for (unsigned int k = 0; k < m; ++k)
+    for (const auto &[ij, value] : point_mass_entries)
+      Y[static_cast<std::size_t>(k) * n_full + ij[0]] += value * X[static_cast<std::size_t>(k) * n_full + ij[1]];
 }
 
 std::array<Vector<double>, 6> BodyModel::rigid_body_modes() const

@@ -66,6 +66,9 @@ public:
   dealii::Vector<double> condense(const dealii::Vector<double> &f_full) const;
   /// dst = M_full src: the parts' consistent mass plus the point masses.
   void full_mass_vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+  /// Y = M_full X for @p m vectors stored column by column (n_full_dofs() each): one pass over
+  /// each part's matrix for all of them.
+  void full_mass_multiply(const double *X, unsigned int m, double *Y) const;
 
   /// A node of the full model: its position and its full dofs (theta = -1 on solid nodes).
   struct Node

@@ -19,6 +19,9 @@ void OutputSettings::declare_parameters(ParameterHandler &prm)
                     "Write the mass-normalised mode shapes as VTU files with a PVD index (ParaView).");
   prm.declare_entry("Subdivisions", "4", dealii::Patterns::Integer(1, 64),
                     "Subdivisions of each element in the VTU output, so curved elements look curved [-].");
+  prm.declare_entry("Export formats", "", dealii::Patterns::Anything(),
+                    "'flextrack reduce' only: also export the reduced body, formats separated by commas: "
+                    "'mbdyn' (modal element data .fem + joint statement .elm), 'vtu' (mode shapes for ParaView).");
   prm.leave_subsection();
 }
 
@@ -29,6 +32,16 @@ OutputSettings OutputSettings::parse_parameters(ParameterHandler &prm)
   s.directory = prm.get("Directory");
   s.mode_shapes = prm.get_bool("Mode shapes");
   s.subdivisions = prm.get_integer("Subdivisions");
+  std::string formats = prm.get("Export formats");
+  for (auto &c : formats)
+    if (c == ',') c = ' ';
+  std::istringstream list(formats);
+  for (std::string f; list >> f;)
+    {
+      if (f != "mbdyn" && f != "vtu")
+        throw InputError("Output/Export formats", "unknown export format '" + f + "'; allowed: mbdyn, vtu");
+      s.export_formats.push_back(f);
+    }
   prm.leave_subsection();
   return s;
 }

@@ -9,6 +9,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <string>
+#include <vector>
 
 namespace flextrack::io
 {
@@ -17,6 +18,7 @@ struct OutputSettings
   std::string directory;         ///< empty: output/<parameter file stem>
   bool mode_shapes = true;       ///< write VTU/PVD mode shapes
   unsigned int subdivisions = 4; ///< patch subdivisions per cell in the VTU files
+  std::vector<std::string> export_formats; ///< reduce: also export the body (mbdyn, vtu)
 
   static void declare_parameters(dealii::ParameterHandler &prm);
   static OutputSettings parse_parameters(dealii::ParameterHandler &prm);

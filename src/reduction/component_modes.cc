@@ -1,7 +1,9 @@
 #include <io/input_error.h>
 #include <reduction/component_modes.h>
 #include <reduction/sparse_factorization.h>
+#include <fem/csr_matrix.h>
 
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 
 #include <Epetra_CrsMatrix.h>
@@ -29,6 +31,9 @@ void ReductionSettings::declare_parameters(ParameterHandler &prm)
                     "Arms that carry a sliding contact, separated by commas: each gets track load modes.");
   prm.declare_entry("Track stations", "8", Patterns::Integer(1),
                     "Load stations per track arm [-]: unit forces along x, y and z at s_k = k L / n, k = 1..n.");
+  prm.declare_entry("Check modes", "0", Patterns::Integer(0),
+                    "After reducing, also solve the full FE model for this many lowest frequencies and report "
+                    "the largest relative difference and both run times [-]; 0 = no check.");
   prm.declare_entry("Damping ratio", "0", Patterns::Double(0),
                     "Modal damping ratio zeta of every reduced mode [-]: C = diag(2 zeta w_i).");
   prm.declare_entry("Rayleigh mass coefficient", "0", Patterns::Double(0),
@@ -50,6 +55,7 @@ ReductionSettings ReductionSettings::parse_parameters(ParameterHandler &prm)
   std::istringstream in(list);
   for (std::string name; in >> name;) s.track_arms.push_back(name);
   s.n_stations = prm.get_integer("Track stations");
+  s.n_check_modes = prm.get_integer("Check modes");
   s.damping_ratio = prm.get_double("Damping ratio");
   s.rayleigh_mass = prm.get_double("Rayleigh mass coefficient");
   s.rayleigh_stiffness = prm.get_double("Rayleigh stiffness coefficient");
@@ -77,33 +83,27 @@ void restrict_matrices(const TrilinosWrappers::SparseMatrix &K, const TrilinosWr
                        const std::vector<int> &keep, const unsigned int n_kept, TrilinosWrappers::SparseMatrix &K_kept,
                        TrilinosWrappers::SparseMatrix &M_kept)
 {
-  const Epetra_MpiComm comm(MPI_COMM_SELF);
-  const Epetra_Map map(static_cast<int>(n_kept), 0, comm);
   for (int which = 0; which < 2; ++which)
     {
       const Epetra_CrsMatrix &a = (which == 0 ? K : M).trilinos_matrix();
-      Epetra_CrsMatrix b(Copy, map, a.MaxNumEntries());
-      std::vector<int> cols;
-      std::vector<double> vals;
-      for (int r = 0; r < a.NumMyRows(); ++r)
-        {
-          const int row = keep[a.RowMap().GID(r)];
-          if (row < 0) continue;
-          int n, *idx;
-          double *v;
-          a.ExtractMyRowView(r, n, v, idx);
-          cols.clear();
-          vals.clear();
-          for (int e = 0; e < n; ++e)
-            if (const int c = keep[a.ColMap().GID(idx[e])]; c >= 0)
-              {
-                cols.push_back(c);
-                vals.push_back(v[e]);
-              }
-          b.InsertGlobalValues(row, cols.size(), vals.data(), cols.data());
-        }
-      b.FillComplete();
-      (which == 0 ? K_kept : M_kept).reinit(b);
+      // Visit the kept entries: first to collect the pattern, then to add the values.
+      auto visit = [&](auto &&use) {
+        for (int r = 0; r < a.NumMyRows(); ++r)
+          {
+            const int row = keep[a.RowMap().GID(r)];
+            if (row < 0) continue;
+            int n, *idx;
+            double *v;
+            a.ExtractMyRowView(r, n, v, idx);
+            for (int e = 0; e < n; ++e)
+              if (const int c = keep[a.ColMap().GID(idx[e])]; c >= 0) use(row, c, v[e]);
+          }
+      };
+      std::vector<std::vector<int>> rows(n_kept);
+      visit([&](int row, int c, double) { rows[row].push_back(c); });
+      fem::CsrMatrix b(std::move(rows));
+      visit([&](int row, int c, double v) { b.add(row, c, v); });
+      b.to_trilinos(which == 0 ? K_kept : M_kept);
     }
 }
 
@@ -136,11 +136,29 @@ public:
   /// x = K_c^{-1} b for a body-dof load b; zero on the clamped dofs. Factorises on first use.
   Vector<double> solve(const Vector<double> &b)
   {
-    if (!factorization) factorization = std::make_unique<SparseFactorization>(K(), M(), 0.0, "cholmod");
     Vector<double> bc(kept.size()), xc(kept.size());
     for (unsigned int j = 0; j < kept.size(); ++j) bc[j] = b[kept[j]];
-    factorization->solve(bc.begin(), xc.begin());
+    factorization().solve(bc.begin(), xc.begin());
     return expand(xc);
+  }
+  /// Cholesky factor of K (of the kept dofs), made on first use.
+  const SparseFactorization &factorization()
+  {
+    if (!factor) factor = std::make_unique<SparseFactorization>(K(), M(), 0.0, "cholmod");
+    return *factor;
+  }
+  /// The same for several loads at once.
+  std::vector<Vector<double>> solve_many(const std::vector<Vector<double>> &loads)
+  {
+    const std::size_t m = kept.size(), k = loads.size();
+    std::vector<double> B(m * k), X(m * k);
+    for (std::size_t c = 0; c < k; ++c)
+      for (std::size_t j = 0; j < m; ++j) B[c * m + j] = loads[c][kept[j]];
+    if (k > 0) factorization().solve_many(B.data(), X.data(), k);
+    std::vector<Vector<double>> x(k, Vector<double>(keep.size()));
+    for (std::size_t c = 0; c < k; ++c)
+      for (std::size_t j = 0; j < m; ++j) x[c][kept[j]] = X[c * m + j];
+    return x;
   }
   Vector<double> expand(const Vector<double> &xc) const
   {
@@ -154,52 +172,55 @@ public:
 private:
   TrilinosWrappers::SparseMatrix K_kept, M_kept;
   const TrilinosWrappers::SparseMatrix *K_ptr, *M_ptr;
-  std::unique_ptr<SparseFactorization> factorization;
+  std::unique_ptr<SparseFactorization> factor;
 };
 
-/// M-orthonormal Gram-Schmidt: appends v (made M-orthogonal to @p against and to @p basis) to
-/// @p basis unless it is dependent; returns whether it was kept.
-bool append_orthonormal(Vector<double> v, const std::vector<Vector<double>> &against,
-                        std::vector<Vector<double>> &basis, const TrilinosWrappers::SparseMatrix &M)
+/// An M-orthonormal set of vectors with their products M b, so that Gram-Schmidt needs one
+/// matrix product per new vector (b_j^T M v = (M b_j)^T v).
+struct MOrthonormalSet
 {
-  Vector<double> Mv(v.size());
-  M.vmult(Mv, v);
-  const double original = std::sqrt(v * Mv);
-  if (!(original > 0)) return false;
-  for (int pass = 0; pass < 2; ++pass) // twice is enough (Kahan)
-    {
-      M.vmult(Mv, v);
-      for (const auto *set : std::array<const std::vector<Vector<double>> *, 2>{{&against, &basis}})
-        for (const auto &phi : *set) v.add(-(phi * Mv), phi);
-    }
-  M.vmult(Mv, v);
-  const double norm = std::sqrt(v * Mv);
-  if (!(norm > 1e-8 * original)) return false;
-  v /= norm;
-  basis.push_back(std::move(v));
-  return true;
-}
+  std::vector<Vector<double>> vectors, M_vectors;
+  /// Appends v made M-orthogonal to @p against and to this set (classical Gram-Schmidt, twice:
+  /// Kahan's "twice is enough") unless it is dependent within 1e-8; returns whether it was kept.
+  bool append(Vector<double> v, const MOrthonormalSet &against, const TrilinosWrappers::SparseMatrix &M)
+  {
+    Vector<double> Mv(v.size());
+    M.vmult(Mv, v);
+    const double original = std::sqrt(v * Mv);
+    if (!(original > 0)) return false;
+    for (int pass = 0; pass < 2; ++pass)
+      for (const MOrthonormalSet *set : {&against, static_cast<const MOrthonormalSet *>(this)})
+        {
+          std::vector<double> c(set->vectors.size());
+          for (unsigned int j = 0; j < c.size(); ++j) c[j] = set->M_vectors[j] * v;
+          for (unsigned int j = 0; j < c.size(); ++j) v.add(-c[j], set->vectors[j]);
+        }
+    M.vmult(Mv, v);
+    const double norm = std::sqrt(v * Mv);
+    if (!(norm > 1e-8 * original)) return false;
+    v /= norm;
+    Mv /= norm;
+    vectors.push_back(std::move(v));
+    M_vectors.push_back(std::move(Mv));
+    return true;
+  }
+};
 
 /// Rigid-body modes, M-orthonormal.
-std::vector<Vector<double>> orthonormal_rigid_modes(const fem::BodyModel &body)
+MOrthonormalSet orthonormal_rigid_modes(const fem::BodyModel &body)
 {
-  std::vector<Vector<double>> R;
-  const std::vector<Vector<double>> none;
-  for (auto &r : body.rigid_body_modes()) append_orthonormal(r, none, R, body.mass_matrix());
-  AssertThrow(R.size() == 6, ExcMessage("the body's rigid-body modes are dependent (all nodes on one line?)"));
+  MOrthonormalSet R;
+  const MOrthonormalSet none;
+  for (auto &r : body.rigid_body_modes()) R.append(r, none, body.mass_matrix());
+  AssertThrow(R.vectors.size() == 6, ExcMessage("the body's rigid-body modes are dependent (all nodes on one line?)"));
   return R;
 }
 
 /// f - M R R^T f: a load balanced by the rigid-body inertia forces it causes.
-Vector<double> inertia_relief(const Vector<double> &f, const std::vector<Vector<double>> &R,
-                              const TrilinosWrappers::SparseMatrix &M)
+Vector<double> inertia_relief(const Vector<double> &f, const MOrthonormalSet &R)
 {
-  Vector<double> g = f, MR(f.size());
-  for (const auto &r : R)
-    {
-      M.vmult(MR, r);
-      g.add(-(r * f), MR);
-    }
+  Vector<double> g = f;
+  for (unsigned int j = 0; j < R.vectors.size(); ++j) g.add(-(R.vectors[j] * f), R.M_vectors[j]);
   return g;
 }
 } // namespace
@@ -231,12 +252,19 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
     for (const auto &p : interfaces) clamped.insert(clamped.end(), p.dofs.begin(), p.dofs.end());
   else if (free_body && !interfaces.empty())
     clamped.assign(interfaces[0].dofs.begin(), interfaces[0].dofs.end());
+  ReducedBasis r;
+  Timer step;
+  auto lap = [&](const std::string &name) {
+    r.timings.emplace_back(name, step.wall_time());
+    step.restart();
+  };
   ClampedBody anchored(body, clamped);
+  lap("clamp interfaces");
 
   const TrilinosWrappers::SparseMatrix &M = body.mass_matrix();
   // Mean-axis frame (free-interface method, free body): every vector M-orthogonal to R.
   const unsigned int n_rigid = (!craig_bampton && free_body) ? 6 : 0;
-  const std::vector<Vector<double>> R = n_rigid ? orthonormal_rigid_modes(body) : std::vector<Vector<double>>();
+  const MOrthonormalSet R = n_rigid ? orthonormal_rigid_modes(body) : MOrthonormalSet();
   const unsigned int n_free = craig_bampton ? anchored.size() : body.n_dofs();
   if (settings.n_normal_modes + n_rigid >= n_free)
     {
@@ -247,8 +275,7 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
       throw InputError("Reduction/Number of normal modes", m.str());
     }
 
-  ReducedBasis r;
-  std::vector<Vector<double>> basis;
+  MOrthonormalSet basis;
   std::vector<double> eigenvalues; // of the normal modes, for the residual flexibility
   if (settings.n_normal_modes > 0)
     {
@@ -256,9 +283,18 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
       modal.n_modes = settings.n_normal_modes + n_rigid;
       const TrilinosWrappers::SparseMatrix &K_eig = craig_bampton ? anchored.K() : body.stiffness_matrix();
       const TrilinosWrappers::SparseMatrix &M_eig = craig_bampton ? anchored.M() : M;
-      const double shift = std::isnan(modal.shift) ? automatic_shift(K_eig, M_eig) : modal.shift;
-      const Modes modes = lowest_modes(K_eig, M_eig, n_free, modal, shift,
-                                       modal.direct_solver == "auto" ? "cholmod" : modal.direct_solver);
+      // Craig-Bampton: K with the interfaces clamped is positive definite, so shift 0 works and
+      // one Cholesky factor serves the eigen solve and all static solves.
+      const bool share = craig_bampton && std::isnan(modal.shift) && (modal.direct_solver == "auto" || modal.direct_solver == "cholmod");
+      const double shift = share ? 0.0 : std::isnan(modal.shift) ? automatic_shift(K_eig, M_eig) : modal.shift;
+      if (share)
+        {
+          anchored.factorization();
+          lap("factorise (Cholesky)");
+        }
+      const Modes modes = share ? lowest_modes(K_eig, M_eig, n_free, modal, 0.0, anchored.factorization())
+                                : lowest_modes(K_eig, M_eig, n_free, modal, shift,
+                                               modal.direct_solver == "auto" ? "cholmod" : modal.direct_solver);
       if (n_rigid == 0 && modes.eigenvalues[0] < 1e-10 * std::abs(modes.eigenvalues.back()))
         throw SolverError("the " + std::string(free_body ? "body, held at its first interface," : "supported body") +
                           " still has a zero-energy mode (eigenvalue " + std::to_string(modes.eigenvalues[0]) +
@@ -277,43 +313,37 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
       for (unsigned int i = n_rigid; i < modes.shapes.size(); ++i)
         {
           Vector<double> phi = craig_bampton ? anchored.expand(modes.shapes[i]) : modes.shapes[i];
-          if (append_orthonormal(phi, R, basis, M)) eigenvalues.push_back(modes.eigenvalues[i]);
+          if (basis.append(phi, R, M)) eigenvalues.push_back(modes.eigenvalues[i]);
         }
-      r.n_normal = basis.size();
+      r.n_normal = basis.vectors.size();
+      lap("eigen solve");
     }
 
-  // Static vectors: constraint modes (Craig-Bampton) or residual attachment modes.
-  auto static_response = [&](const Vector<double> &f) {
-    return n_rigid ? anchored.solve(inertia_relief(f, R, M)) : anchored.solve(f);
-  };
+  // Static vectors: constraint modes (Craig-Bampton) or residual attachment modes, then track
+  // load modes; all loads are solved together with the one factorisation.
   const auto &K = body.stiffness_matrix();
+  std::vector<Vector<double>> loads;
+  std::vector<int> prescribed; // Craig-Bampton: the interface dof set to 1, else -1
+  std::vector<bool> is_track;
   for (unsigned int p = 0; p < interfaces.size(); ++p)
     {
       if (craig_bampton && free_body && p == 0) continue; // the body frame
       for (const auto dof : interfaces[p].dofs)
         {
-          Vector<double> v(body.n_dofs());
+          Vector<double> f(body.n_dofs());
           if (craig_bampton)
             {
               // u = e_j on the interface, K_oo u_o = -K_oj elsewhere.
-              Vector<double> e(body.n_dofs()), Ke(body.n_dofs());
+              Vector<double> e(body.n_dofs());
               e[dof] = 1;
-              K.vmult(Ke, e);
-              Ke *= -1;
-              for (const auto c : clamped) Ke[c] = 0;
-              v = anchored.solve(Ke);
-              v[dof] = 1;
+              K.vmult(f, e);
+              f *= -1;
             }
           else
-            {
-              Vector<double> f(body.n_dofs());
-              f[dof] = 1;
-              v = static_response(f);
-            }
-          if (append_orthonormal(v, R, basis, M))
-            ++r.n_interface;
-          else
-            ++r.n_dropped;
+            f[dof] = 1;
+          loads.push_back(n_rigid ? inertia_relief(f, R) : f);
+          prescribed.push_back(craig_bampton ? static_cast<int>(dof) : -1);
+          is_track.push_back(false);
         }
     }
   for (const auto a : track_arms)
@@ -323,53 +353,71 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
         for (unsigned int d = 0; d < 3; ++d)
           {
             const Vector<double> f = body.arm_point_load(a, k * L / settings.n_stations, Tensor<1, 3>(Point<3>::unit_vector(d)));
-            if (append_orthonormal(static_response(f), R, basis, M))
-              ++r.n_track;
-            else
-              ++r.n_dropped;
+            loads.push_back(n_rigid ? inertia_relief(f, R) : f);
+            prescribed.push_back(-1);
+            is_track.push_back(true);
           }
     }
-  if (basis.empty()) throw InputError("Reduction/Number of normal modes", "the basis is empty: ask for normal modes, interfaces or track arms");
+  auto responses = anchored.solve_many(loads);
+  loads.clear();
+  for (unsigned int i = 0; i < responses.size(); ++i)
+    {
+      if (prescribed[i] >= 0) responses[i][prescribed[i]] = 1;
+      const bool kept = basis.append(std::move(responses[i]), R, M);
+      if (!kept)
+        ++r.n_dropped;
+      else if (is_track[i])
+        ++r.n_track;
+      else
+        ++r.n_interface;
+    }
+  lap("static modes");
+  // An empty basis is allowed: the rigid limit of the body (its inertia only).
 
   // Rotate the basis onto the reduced eigenvectors: Phi^T M Phi = 1, Phi^T K Phi = diag(w^2).
-  const unsigned int n = basis.size();
-  std::vector<Vector<double>> Kphi(n, Vector<double>(body.n_dofs())), Mphi(n, Vector<double>(body.n_dofs()));
+  // K_r and M_r come from the stored products; the rotated ones are V^T K_r V and V^T M_r V.
+  const unsigned int n = basis.vectors.size();
   LAPACKFullMatrix<double> Kr(n), Mr(n);
-  for (unsigned int b = 0; b < n; ++b)
-    {
-      K.vmult(Kphi[b], basis[b]);
-      M.vmult(Mphi[b], basis[b]);
-    }
+  {
+    Vector<double> Kb(body.n_dofs());
+    for (unsigned int b = 0; b < n; ++b)
+      {
+        K.vmult(Kb, basis.vectors[b]);
+        for (unsigned int a = 0; a < n; ++a) Kr(a, b) = basis.vectors[a] * Kb;
+      }
+  }
+  for (unsigned int a = 0; a < n; ++a)
+    for (unsigned int b = 0; b < n; ++b) Mr(a, b) = basis.vectors[a] * basis.M_vectors[b];
+  for (unsigned int a = 0; a < n; ++a)
+    for (unsigned int b = 0; b < a; ++b)
+      {
+        Kr(a, b) = Kr(b, a) = 0.5 * (Kr(a, b) + Kr(b, a));
+        Mr(a, b) = Mr(b, a) = 0.5 * (Mr(a, b) + Mr(b, a));
+      }
+  FullMatrix<double> K_basis(n, n), M_basis(n, n); // before LAPACK overwrites Kr, Mr
   for (unsigned int a = 0; a < n; ++a)
     for (unsigned int b = 0; b < n; ++b)
       {
-        Kr(a, b) = 0.5 * (basis[a] * Kphi[b] + basis[b] * Kphi[a]);
-        Mr(a, b) = 0.5 * (basis[a] * Mphi[b] + basis[b] * Mphi[a]);
+        K_basis(a, b) = Kr(a, b);
+        M_basis(a, b) = Mr(a, b);
       }
   std::vector<Vector<double>> V(n, Vector<double>(n));
-  Kr.compute_generalized_eigenvalues_symmetric(Mr, V);
+  if (n > 0) Kr.compute_generalized_eigenvalues_symmetric(Mr, V);
   std::vector<unsigned int> order(n);
   for (unsigned int i = 0; i < n; ++i) order[i] = i;
   std::sort(order.begin(), order.end(),
             [&](unsigned int i, unsigned int j) { return Kr.eigenvalue(i).real() < Kr.eigenvalue(j).real(); });
+  FullMatrix<double> T(n, n); // column i = V[order[i]]
+  for (unsigned int i = 0; i < n; ++i)
+    for (unsigned int b = 0; b < n; ++b) T(b, i) = V[order[i]][b];
   r.modes.assign(n, Vector<double>(body.n_dofs()));
   for (unsigned int i = 0; i < n; ++i)
-    for (unsigned int b = 0; b < n; ++b) r.modes[i].add(V[order[i]][b], basis[b]);
-
-  // The reduced matrices of the final basis, as they are (not assumed diagonal).
+    for (unsigned int b = 0; b < n; ++b) r.modes[i].add(T(b, i), basis.vectors[b]);
   r.stiffness.reinit(n, n);
   r.mass.reinit(n, n);
-  for (unsigned int b = 0; b < n; ++b)
-    {
-      K.vmult(Kphi[b], r.modes[b]);
-      M.vmult(Mphi[b], r.modes[b]);
-    }
-  for (unsigned int a = 0; a < n; ++a)
-    for (unsigned int b = 0; b < n; ++b)
-      {
-        r.stiffness(a, b) = 0.5 * (r.modes[a] * Kphi[b] + r.modes[b] * Kphi[a]);
-        r.mass(a, b) = 0.5 * (r.modes[a] * Mphi[b] + r.modes[b] * Mphi[a]);
-      }
+  r.stiffness.triple_product(K_basis, T, T, true, false);
+  r.mass.triple_product(M_basis, T, T, true, false);
+  lap("project and diagonalise");
   r.damping.reinit(n, n);
   for (unsigned int a = 0; a < n; ++a)
     for (unsigned int b = 0; b < n; ++b)
@@ -377,5 +425,25 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
   for (unsigned int a = 0; a < n; ++a)
     r.damping(a, a) += 2 * settings.damping_ratio * std::sqrt(std::max(0.0, r.stiffness(a, a) / r.mass(a, a))) * r.mass(a, a);
   return r;
+}
+
+std::vector<double> full_model_frequencies_hz(const fem::BodyModel &body, const ReductionSettings &settings,
+                                              const unsigned int n)
+{
+  const bool free_body = !body.is_supported();
+  const bool craig_bampton = settings.method == ReductionSettings::Method::craig_bampton;
+  std::vector<unsigned int> clamped;
+  if (free_body && craig_bampton && !body.interfaces().empty())
+    clamped.assign(body.interfaces()[0].dofs.begin(), body.interfaces()[0].dofs.end());
+  const ClampedBody model(body, clamped);
+  const unsigned int n_rigid = (free_body && clamped.empty()) ? 6 : 0;
+  ModalSettings modal = settings.modal;
+  modal.n_modes = std::min(n + n_rigid, model.size() - 1);
+  const double shift = std::isnan(modal.shift) ? automatic_shift(model.K(), model.M()) : modal.shift;
+  const Modes modes = lowest_modes(model.K(), model.M(), model.size(), modal, shift,
+                                   modal.direct_solver == "auto" ? "cholmod" : modal.direct_solver);
+  std::vector<double> f;
+  for (unsigned int i = n_rigid; i < modes.eigenvalues.size(); ++i) f.push_back(frequency_hz(modes.eigenvalues[i]));
+  return f;
 }
 } // namespace flextrack::reduction

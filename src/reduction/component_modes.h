@@ -44,6 +44,7 @@ struct ReductionSettings
   double rayleigh_mass = 0;              ///< Rayleigh alpha [1/s]: C += alpha M
   double rayleigh_stiffness = 0;         ///< Rayleigh beta [s]: C += beta K
   ModalSettings modal;                   ///< eigen solver settings (tolerance, direct solver)
+  unsigned int n_check_modes = 0;        ///< compare this many frequencies with the full model [-]
 
   static void declare_parameters(dealii::ParameterHandler &prm);
   /// Reads "subsection Reduction" (and the eigen solver settings of "Modal analysis").
@@ -60,9 +61,16 @@ struct ReducedBasis
   unsigned int n_track = 0;     ///< track load vectors kept
   unsigned int n_dropped = 0;   ///< static vectors dropped as dependent
   std::vector<double> frequencies_hz() const; ///< of the reduced model, ascending
+  std::vector<std::pair<std::string, double>> timings; ///< wall time [s] of each step
 };
 
 /// Reduce @p body. Throws InputError for impossible requests (more modes than dofs, a free body
 /// without an interface to refer it to, an unknown track arm) and SolverError for failures.
 ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &settings);
+
+/// The @p n lowest frequencies [Hz] of the full FE model that the reduced model approximates:
+/// the supported body; a free body held at its first interface (Craig-Bampton: the body frame);
+/// the elastic modes of a free body (free-interface). The baseline of accuracy checks.
+std::vector<double> full_model_frequencies_hz(const fem::BodyModel &body, const ReductionSettings &settings,
+                                              unsigned int n);
 } // namespace flextrack::reduction

@@ -59,14 +59,20 @@ InertiaInvariants compute_inertia_invariants(const fem::BodyModel &body, const s
       for (unsigned int k = 0; k < n; ++k)
         for (unsigned int a = 0; a < 3; ++a) F(i, 4 + 3 * k + a) = full[k][nodes[i].u[a]];
     }
-  Vector<double> field(n_full), Mfield(n_full);
-  for (unsigned int f = 0; f < n_fields; ++f)
+  // M times the fields, in blocks of columns (one pass over the matrices per block).
+  const unsigned int block = 32;
+  std::vector<double> X(static_cast<std::size_t>(n_full) * block), Y(X.size());
+  for (unsigned int first = 0; first < n_fields; first += block)
     {
-      field = 0;
-      for (unsigned int i = 0; i < N; ++i) field[nodes[i].u[0]] = F(i, f);
-      body.full_mass_vmult(Mfield, field);
-      for (unsigned int i = 0; i < N; ++i) MF(i, f) = Mfield[nodes[i].u[0]];
+      const unsigned int m = std::min(block, n_fields - first);
+      std::fill(X.begin(), X.end(), 0.0);
+      for (unsigned int f = 0; f < m; ++f)
+        for (unsigned int i = 0; i < N; ++i) X[static_cast<std::size_t>(f) * n_full + nodes[i].u[0]] = F(i, first + f);
+      body.full_mass_multiply(X.data(), m, Y.data());
+      for (unsigned int f = 0; f < m; ++f)
+        for (unsigned int i = 0; i < N; ++i) MF(i, first + f) = Y[static_cast<std::size_t>(f) * n_full + nodes[i].u[0]];
     }
+  Vector<double> field(n_full), Mfield(n_full);
   LAPACKFullMatrix<double> C(n_fields, n_fields);
   F.Tmmult(C, MF);
 

@@ -69,6 +69,21 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
                    const unsigned int n_free, const ModalSettings &settings, const double shift,
                    const std::string &amesos_solver)
 {
+  if (settings.n_modes >= n_free)
+    throw InputError("Modal analysis/Number of modes",
+                     std::to_string(settings.n_modes) + " modes requested, but the model has only " +
+                       std::to_string(n_free) + " free degrees of freedom; allowed: fewer than " +
+                       std::to_string(n_free) + " (or refine the mesh)");
+  // Factorise A = K - sigma M once (CHOLMOD is serial: in parallel MUMPS does the work).
+  const bool parallel = Utilities::MPI::n_mpi_processes(K.get_mpi_communicator()) > 1;
+  const SparseFactorization factorization(K, M, shift, parallel && amesos_solver == "cholmod" ? "mumps" : amesos_solver);
+  return lowest_modes(K, M, n_free, settings, shift, factorization);
+}
+
+Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
+                   const unsigned int n_free, const ModalSettings &settings, const double shift,
+                   const SparseFactorization &factorization)
+{
   // Works on the matrices' own distribution: every process holds its locally owned rows, and
   // ARPACK's parallel version (PARPACK) runs the Lanczos iteration on those local blocks. A
   // serial matrix lives on MPI_COMM_SELF.
@@ -77,14 +92,6 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
   const IndexSet &owned = K.locally_owned_range_indices();
   int n_local = owned.n_elements();
   int nev = settings.n_modes;
-  if (settings.n_modes >= n_free)
-    throw InputError("Modal analysis/Number of modes",
-                     std::to_string(settings.n_modes) + " modes requested, but the model has only " +
-                       std::to_string(n_free) + " free degrees of freedom; allowed: fewer than " +
-                       std::to_string(n_free) + " (or refine the mesh)");
-
-  // Factorise A = K - sigma M once (CHOLMOD is serial: in parallel MUMPS does the work).
-  const SparseFactorization factorization(K, M, shift, parallel && amesos_solver == "cholmod" ? "mumps" : amesos_solver);
 
   TrilinosWrappers::MPI::Vector x(owned, comm), b(owned, comm);
   auto apply_mass = [&](const double *in, double *out) {

@@ -58,6 +58,13 @@ Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
                    const dealii::TrilinosWrappers::SparseMatrix &M, unsigned int n_free,
                    const ModalSettings &settings, double shift, const std::string &amesos_solver);
 
+class SparseFactorization;
+/// The same with a factorisation of K - shift M that the caller keeps (e.g. for static solves
+/// with the same matrix when shift = 0).
+Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
+                   const dealii::TrilinosWrappers::SparseMatrix &M, unsigned int n_free,
+                   const ModalSettings &settings, double shift, const SparseFactorization &factorization);
+
 /// Automatic shift for an arm: minus the squared first clamped-free bending frequency of a
 /// straight beam with the arm's length and section, the scale of the lowest modes [rad^2/s^2].
 double automatic_shift(const fem::Arm &arm);

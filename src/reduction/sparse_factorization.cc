@@ -137,4 +137,21 @@ void SparseFactorization::solve(const double *b, double *x) const
   solver->Solve();
   std::copy(&(*lhs)[0], &(*lhs)[0] + n, x);
 }
+
+void SparseFactorization::solve_many(const double *B, double *X, const unsigned int k) const
+{
+  if (!cholmod)
+    {
+      const std::size_t n = rhs->MyLength();
+      for (unsigned int j = 0; j < k; ++j) solve(B + j * n, X + j * n);
+      return;
+    }
+  const std::size_t n = cholmod->rhs->nrow;
+  cholmod_dense *many = cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &cholmod->common);
+  std::copy(B, B + n * k, static_cast<double *>(many->x));
+  cholmod_dense *solution = cholmod_solve(CHOLMOD_A, cholmod->factor, many, &cholmod->common);
+  std::copy(static_cast<double *>(solution->x), static_cast<double *>(solution->x) + n * k, X);
+  cholmod_free_dense(&solution, &cholmod->common);
+  cholmod_free_dense(&many, &cholmod->common);
+}
 } // namespace flextrack::reduction

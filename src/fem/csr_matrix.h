@@ -1,0 +1,27 @@
+// A serial sparse matrix in compressed-row form, built row by row with sorted, unique columns,
+// and turned into a Trilinos matrix with every row inserted exactly once into storage of the
+// exact size (Epetra's incremental insertion reallocates and is quadratic in the row length).
+#pragma once
+
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+
+#include <vector>
+
+namespace flextrack::fem
+{
+struct CsrMatrix
+{
+  unsigned int n_rows = 0;
+  std::vector<unsigned int> row_start{0}; ///< n_rows + 1
+  std::vector<int> columns;               ///< sorted within each row
+  std::vector<double> values;
+
+  /// Builds the pattern from per-row column lists (sorted and made unique here); values zero.
+  explicit CsrMatrix(std::vector<std::vector<int>> &&rows);
+  CsrMatrix() = default;
+  /// Adds @p v at (row, column), which must be in the pattern.
+  void add(unsigned int row, int column, double v);
+  /// The same matrix in @p result (serial, on MPI_COMM_SELF).
+  void to_trilinos(dealii::TrilinosWrappers::SparseMatrix &result) const;
+};
+} // namespace flextrack::fem
