@@ -145,6 +145,11 @@ void Body::declare_parameters(ParameterHandler &prm, const std::vector<std::stri
                     "Named points where joints attach, 6 dofs each, separated by ';': 'NAME: arm ARM at S' "
                     "(the arm's node at arc length S [m]) or 'NAME: point X Y Z, REGION' (a point [m] tied "
                     "rigidly to the solid nodes of REGION: 'within R' or 'set NAME').");
+  prm.declare_entry("Output points", "", dealii::Patterns::Anything(),
+                    "Points whose motion is reported and exported (e.g. as MBDyn FEM nodes) but where nothing "
+                    "attaches, separated by ';': 'NAME: arm ARM at S' or 'NAME: point X Y Z, within R' / 'NAME: "
+                    "point X Y Z, set NAME'. A point on the solid follows the region's mean translation and "
+                    "least-squares rotation and adds no stiffness.");
   prm.declare_entry("Point masses", "", dealii::Patterns::Anything(),
                     "Rigid masses at interface points, separated by ';': 'INTERFACE: m' or 'INTERFACE: m, Jxx, "
                     "Jyy, Jzz' with mass m [kg] > 0 and principal inertias about the point [kg m^2] >= 0 "
@@ -160,7 +165,8 @@ Body Body::parse_parameters(ParameterHandler &prm, const std::string &directory)
   body.arm_names = parse_arm_list(prm);
   prm.enter_subsection("Body");
   const bool has_solid = prm.get_bool("Solid");
-  const std::string ties = prm.get("Ties"), interfaces = prm.get("Interfaces"), masses = prm.get("Point masses");
+  const std::string ties = prm.get("Ties"), interfaces = prm.get("Interfaces"), masses = prm.get("Point masses"),
+                    outputs = prm.get("Output points");
   prm.leave_subsection();
   if (has_solid) body.solid = Solid::parse_parameters(prm, directory);
   for (const auto &name : body.arm_names) body.arms.push_back(Arm::parse_parameters(prm, directory, "Arm " + name));
@@ -181,40 +187,47 @@ Body Body::parse_parameters(ParameterHandler &prm, const std::string &directory)
                            parse_region(w, 1, entry, body.solid)});
     }
 
-  for (const auto &[name, spec] : named_items(interfaces, "Body/Interfaces", "NAME: arm ARM at S | point X Y Z, within R"))
-    {
-      const std::string entry = "Body/Interfaces";
-      if (body.interface_index(name) >= 0) throw InputError(entry, "interface '" + name + "' is defined twice");
-      InterfacePoint p;
-      p.name = name;
-      const auto w = words(spec);
-      if (w.size() == 4 && w[0] == "arm" && w[2] == "at")
-        {
-          p.arm = w[1];
-          const int a = body.arm_index(p.arm);
-          if (a < 0) throw InputError(entry, "interface '" + name + "': '" + p.arm + "' is not an arm of the body");
-          p.s = number(w[3], entry, "arc length [m]");
-          const double L = body.arms[a].curve->length();
-          if (p.s < 0 || p.s > L * (1 + 1e-12))
-            {
-              std::ostringstream m;
-              m << "interface '" << name << "' at s = " << p.s << " m lies on no part: arm '" << p.arm
-                << "' runs over 0 <= s <= " << L << " m";
-              throw InputError(entry, m.str());
-            }
-          p.s = std::min(p.s, L);
-        }
-      else if (w.size() >= 4 && w[0] == "point")
-        {
-          for (unsigned int d = 0; d < 3; ++d) p.position[d] = number(w[1 + d], entry, "coordinate [m]");
-          if (!body.solid) throw InputError(entry, "interface '" + name + "' is a point on the solid, but the body has no solid part");
-          p.region = parse_region(w, 4, entry, body.solid);
-        }
-      else
-        throw InputError(entry, "interface '" + name + "': '" + spec + "' is neither 'arm ARM at S' nor 'point X Y Z, within R' "
-                                "nor 'point X Y Z, set NAME'");
-      body.interfaces.push_back(p);
-    }
+  // Interfaces and output points share one grammar.
+  auto parse_points = [&](const std::string &text, const std::string &entry, const std::string &kind,
+                          std::vector<InterfacePoint> &points) {
+    for (const auto &[name, spec] : named_items(text, entry, "NAME: arm ARM at S | point X Y Z, within R"))
+      {
+        if (body.interface_index(name) >= 0 ||
+            std::any_of(body.output_points.begin(), body.output_points.end(), [&](const auto &o) { return o.name == name; }))
+          throw InputError(entry, kind + " '" + name + "' is defined twice (names are shared by interfaces and output points)");
+        InterfacePoint p;
+        p.name = name;
+        const auto w = words(spec);
+        if (w.size() == 4 && w[0] == "arm" && w[2] == "at")
+          {
+            p.arm = w[1];
+            const int a = body.arm_index(p.arm);
+            if (a < 0) throw InputError(entry, kind + " '" + name + "': '" + p.arm + "' is not an arm of the body");
+            p.s = number(w[3], entry, "arc length [m]");
+            const double L = body.arms[a].curve->length();
+            if (p.s < 0 || p.s > L * (1 + 1e-12))
+              {
+                std::ostringstream m;
+                m << kind << " '" << name << "' at s = " << p.s << " m lies on no part: arm '" << p.arm
+                  << "' runs over 0 <= s <= " << L << " m";
+                throw InputError(entry, m.str());
+              }
+            p.s = std::min(p.s, L);
+          }
+        else if (w.size() >= 4 && w[0] == "point")
+          {
+            for (unsigned int d = 0; d < 3; ++d) p.position[d] = number(w[1 + d], entry, "coordinate [m]");
+            if (!body.solid) throw InputError(entry, kind + " '" + name + "' is a point on the solid, but the body has no solid part");
+            p.region = parse_region(w, 4, entry, body.solid);
+          }
+        else
+          throw InputError(entry, kind + " '" + name + "': '" + spec + "' is neither 'arm ARM at S' nor 'point X Y Z, within R' "
+                                  "nor 'point X Y Z, set NAME'");
+        points.push_back(p);
+      }
+  };
+  parse_points(interfaces, "Body/Interfaces", "interface", body.interfaces);
+  parse_points(outputs, "Body/Output points", "output point", body.output_points);
 
   for (const auto &[at, spec] : named_items(masses, "Body/Point masses", "INTERFACE: m, Jxx, Jyy, Jzz"))
     {

@@ -68,6 +68,9 @@ struct Body
   std::vector<Arm> arms;
   std::vector<ArmTie> ties;
   std::vector<InterfacePoint> interfaces;
+  /// Points whose motion is reported (and exported) without attaching anything: arm nodes, or
+  /// points on the solid that follow a region's mean motion without stiffening it.
+  std::vector<InterfacePoint> output_points;
   std::vector<PointMass> point_masses;
 
   /// Index of the arm called @p name, or -1.

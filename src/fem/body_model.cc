@@ -54,8 +54,9 @@ BodyModel::BodyModel(const Body &body) : description(body)
   for (unsigned int a = 0; a < body.arms.size(); ++a)
     {
       arms.push_back(std::make_unique<Arm>(body.arms[a]));
-      for (const auto &p : body.interfaces)
-        if (p.arm == body.arm_names[a]) arms.back()->supports.push_back({p.s, SupportKind::free});
+      for (const auto *points : {&body.interfaces, &body.output_points})
+        for (const auto &p : *points)
+          if (p.arm == body.arm_names[a]) arms.back()->supports.push_back({p.s, SupportKind::free});
     }
   unsigned int offset = 0;
   if (body.solid)
@@ -217,6 +218,13 @@ void BodyModel::build_constraints()
         ref_node_of_interface[i] = n_with_refs;
         n_with_refs += 6;
       }
+  std::vector<unsigned int> ref_node_of_output(description.output_points.size(), 0);
+  for (unsigned int i = 0; i < description.output_points.size(); ++i)
+    if (description.output_points[i].arm.empty())
+      {
+        ref_node_of_output[i] = n_with_refs;
+        n_with_refs += 6;
+      }
   n_full = n_with_refs;
 
   AffineConstraints<double> c;
@@ -247,6 +255,48 @@ void BodyModel::build_constraints()
       }
   };
 
+  // Distributing coupling (RBE3-like): the 6 dofs of a point follow the region,
+  // u = mean(u_n) + theta x (x - x_c), theta = A^{-1} sum_n w (r_n x u_n),
+  // A = sum_n w (|r_n|^2 1 - r_n r_n^T), r_n = x_n - x_c. Adds no stiffness.
+  auto distributing = [&](const std::vector<unsigned int> &region, const std::array<unsigned int, 6> &point,
+                          const Point<3> &x_point) {
+    const double w = 1.0 / region.size();
+    Point<3> x_c;
+    for (const auto n : region) x_c += w * nodes[n].x;
+    Tensor<2, 3> A;
+    for (const auto n : region)
+      {
+        const Tensor<1, 3> r = nodes[n].x - x_c;
+        A += w * ((r * r) * unit_symmetric_tensor<3>() - outer_product(r, r));
+      }
+    const Tensor<2, 3> A_inv = invert(A);
+    const Tensor<2, 3> D = cross_matrix_of_rotation(x_point - x_c);
+    std::array<std::map<unsigned int, double>, 6> coefficient; // a dof can appear in several terms
+    for (const auto n : region)
+      {
+        // d theta / d u_n = w A^{-1} [r_n x]
+        const Tensor<1, 3> r = nodes[n].x - x_c;
+        const Tensor<2, 3> G = w * A_inv * (-cross_matrix_of_rotation(r));
+        for (unsigned int k = 0; k < 3; ++k) // component k of u_n
+          {
+            const unsigned int dof = nodes[n].u[k];
+            coefficient[k][dof] += w;
+            for (unsigned int b = 0; b < 3; ++b)
+              {
+                coefficient[3 + b][dof] += G[b][k];
+                for (unsigned int d = 0; d < 3; ++d) // (theta x (x_point - x_c))_d
+                  coefficient[d][dof] += D[d][b] * G[b][k];
+              }
+          }
+      }
+    for (unsigned int d = 0; d < 6; ++d)
+      {
+        c.add_line(point[d]);
+        for (const auto &[dof, v] : coefficient[d])
+          if (v != 0) c.add_entry(point[d], dof, v);
+      }
+  };
+
   for (const auto &tie : description.ties)
     {
       const unsigned int a = description.arm_index(tie.arm);
@@ -259,46 +309,10 @@ void BodyModel::build_constraints()
           rigid(region, root, x_root);
           continue;
         }
-      // Distributing: u_root = mean(u_n) + theta x (x_root - x_c),
-      // theta = A^{-1} sum_n w (r_n x u_n), A = sum_n w (|r_n|^2 1 - r_n r_n^T), r_n = x_n - x_c.
-      const double w = 1.0 / region.size();
-      Point<3> x_c;
-      for (const auto n : region) x_c += w * nodes[n].x;
-      Tensor<2, 3> A;
-      for (const auto n : region)
-        {
-          const Tensor<1, 3> r = nodes[n].x - x_c;
-          A += w * ((r * r) * unit_symmetric_tensor<3>() - outer_product(r, r));
-        }
-      const Tensor<2, 3> A_inv = invert(A);
-      const Tensor<2, 3> D = cross_matrix_of_rotation(x_root - x_c);
       for (unsigned int d = 0; d < 6; ++d)
         if (c.is_constrained(root[d]))
           throw InputError("Body/Ties", what + ": the arm root is supported; a distributing tie needs it free");
-      std::array<std::map<unsigned int, double>, 6> coefficient; // a dof can appear in several terms
-      for (const auto n : region)
-        {
-          // d theta / d u_n = w A^{-1} [r_n x]
-          const Tensor<1, 3> r = nodes[n].x - x_c;
-          const Tensor<2, 3> G = w * A_inv * (-cross_matrix_of_rotation(r));
-          for (unsigned int k = 0; k < 3; ++k) // component k of u_n
-            {
-              const unsigned int dof = nodes[n].u[k];
-              coefficient[k][dof] += w;
-              for (unsigned int b = 0; b < 3; ++b)
-                {
-                  coefficient[3 + b][dof] += G[b][k];
-                  for (unsigned int d = 0; d < 3; ++d) // (theta x (x_root - x_c))_d
-                    coefficient[d][dof] += D[d][b] * G[b][k];
-                }
-            }
-        }
-      for (unsigned int d = 0; d < 6; ++d)
-        {
-          c.add_line(root[d]);
-          for (const auto &[dof, v] : coefficient[d])
-            if (v != 0) c.add_entry(root[d], dof, v);
-        }
+      distributing(region, root, x_root);
     }
 
   for (unsigned int i = 0; i < description.interfaces.size(); ++i)
@@ -334,6 +348,25 @@ void BodyModel::build_constraints()
                                                 "dofs are not free; move it");
       interface_full_dofs.push_back(dofs);
       interface_list.push_back({p.name, x, {}});
+    }
+  for (unsigned int i = 0; i < description.output_points.size(); ++i)
+    {
+      const auto &p = description.output_points[i];
+      OutputPoint o{p.name, p.position, {}};
+      if (!p.arm.empty())
+        {
+          const unsigned int a = description.arm_index(p.arm);
+          o.full_dofs = arm_node_dofs(a, p.s);
+          o.position = arm_models[a]->arm().curve->position(p.s);
+        }
+      else
+        {
+          for (unsigned int d = 0; d < 6; ++d) o.full_dofs[d] = ref_node_of_output[i] + d;
+          distributing(region_nodes(p.region, p.position, "Body/Output points",
+                                    "output point '" + p.name + "' at " + point_text(p.position)),
+                       o.full_dofs, p.position);
+        }
+      output_list.push_back(o);
     }
   for (const auto &m : description.point_masses)
     {

@@ -50,6 +50,16 @@ public:
   };
   const std::vector<Interface> &interfaces() const { return interface_list; }
 
+  /// An output point: its full dofs (u, theta), which follow the body dofs through T (they are
+  /// dependent, not in y). Values of a body-dof vector there: expand(y)[dofs[c]].
+  struct OutputPoint
+  {
+    std::string name;
+    dealii::Point<3> position;
+    std::array<unsigned int, 6> full_dofs{};
+  };
+  const std::vector<OutputPoint> &output_points() const { return output_list; }
+
   /// The six rigid-body motions in body dofs: translations e_a (a = 0..2) and small rotations
   /// e_a x x about the origin (a = 3..5; arm and interface nodes also turn by e_a).
   std::array<dealii::Vector<double>, 6> rigid_body_modes() const;
@@ -113,6 +123,7 @@ private:
   std::vector<Node> nodes;
   std::vector<int> node_of_solid_dof; // solid x-dof -> node index
   std::vector<Interface> interface_list;
+  std::vector<OutputPoint> output_list;
   std::vector<std::array<unsigned int, 6>> interface_full_dofs;
   std::vector<std::pair<std::array<unsigned int, 2>, double>> point_mass_entries; // full (i, j), value
   // T, row by row: full dof i -> entries [t_start[i], t_start[i+1]) of t_entries

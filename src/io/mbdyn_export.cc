@@ -48,7 +48,11 @@ std::string mbdyn_node_label(const std::string &name)
 std::string mbdyn_fem_text(const reduction::ReducedBody &body)
 {
   const auto &inv = body.invariants;
-  const unsigned int n = body.n_modes(), N = body.interfaces.size();
+  // Exposed nodes: the interfaces, then the output points.
+  std::vector<const reduction::ReducedBody::Interface *> exposed;
+  for (const auto &p : body.interfaces) exposed.push_back(&p);
+  for (const auto &p : body.output_points) exposed.push_back(&p);
+  const unsigned int n = body.n_modes(), N = exposed.size();
   const Tensor<2, 3> J = inv.inertia_about_centre_of_mass();
   {
     LAPACKFullMatrix<double> A(3, 3);
@@ -71,21 +75,21 @@ std::string mbdyn_fem_text(const reduction::ReducedBody &body)
       << ", SI units, input hash " << body.input_hash << "\n";
   out << "REV0 " << N << " " << n << " 0 0 0\n";
   out << "** RECORD GROUP 2, FINITE ELEMENT NODE LIST\n";
-  for (unsigned int i = 0; i < N; ++i) out << (i ? " " : "") << mbdyn_node_label(body.interfaces[i].name);
+  for (unsigned int i = 0; i < N; ++i) out << (i ? " " : "") << mbdyn_node_label(exposed[i]->name);
   if (N) out << "\n";
   for (unsigned int d = 0; d < 3; ++d)
     {
       out << "** RECORD GROUP " << 5 + d << ", FINITE ELEMENT NODE " << "XYZ"[d] << "\n";
-      for (const auto &p : body.interfaces) num.add(p.position[d]);
+      for (const auto *p : exposed) num.add(p->position[d]);
       num.end_line();
     }
   out << "** RECORD GROUP 8, MODE SHAPES\n";
   for (unsigned int k = 0; k < n; ++k)
     {
       out << "**    NORMAL MODE SHAPE # " << k + 1 << "\n";
-      for (const auto &p : body.interfaces)
+      for (const auto *p : exposed)
         {
-          for (unsigned int c = 0; c < 6; ++c) num.add(p.modes(c, k));
+          for (unsigned int c = 0; c < 6; ++c) num.add(p->modes(c, k));
           num.end_line();
         }
     }

@@ -81,15 +81,18 @@ void write_file(const ReducedBody &b, const std::string &name)
   f.write("/inertia/P", {n, 3, 3}, P.data());
   f.write("/inertia/Q", {n, n, 3, 3}, Q.data());
 
-  f.create_group("/interfaces");
-  for (unsigned int i = 0; i < b.interfaces.size(); ++i)
+  for (const auto &[group, points] : {std::make_pair("/interfaces", &b.interfaces), std::make_pair("/output_points", &b.output_points)})
     {
-      const auto &p = b.interfaces[i];
-      const std::string g = "/interfaces/" + p.name;
-      f.create_group(g);
-      f.set_attribute(g, "index", i);
-      f.write(g + "/position", {3}, &p.position[0]);
-      f.write(g + "/modes", {6, n}, flatten(p.modes).data());
+      f.create_group(group);
+      for (unsigned int i = 0; i < points->size(); ++i)
+        {
+          const auto &p = (*points)[i];
+          const std::string g = std::string(group) + "/" + p.name;
+          f.create_group(g);
+          f.set_attribute(g, "index", i);
+          f.write(g + "/position", {3}, &p.position[0]);
+          f.write(g + "/modes", {6, n}, flatten(p.modes).data());
+        }
     }
 
   f.create_group("/arms");
@@ -182,12 +185,13 @@ ReducedBody read_file(const std::string &name)
   for (hsize_t k = 0; k < n; ++k) inv.P.push_back(tensor_of(&P[9 * k]));
   for (hsize_t k = 0; k < n * n; ++k) inv.Q.push_back(tensor_of(&Q[9 * k]));
 
-  for (const auto &name : in_index_order(f, "/interfaces"))
-    {
-      const std::string g = "/interfaces/" + name;
-      const auto x = f.read_doubles(g + "/position", {3});
-      b.interfaces.push_back({name, Point<3>(x[0], x[1], x[2]), unflatten(f.read_doubles(g + "/modes", {6, n}), 6, n)});
-    }
+  for (const auto &[group, points] : {std::make_pair("/interfaces", &b.interfaces), std::make_pair("/output_points", &b.output_points)})
+    for (const auto &name : in_index_order(f, group))
+      {
+        const std::string g = std::string(group) + "/" + name;
+        const auto x = f.read_doubles(g + "/position", {3});
+        points->push_back({name, Point<3>(x[0], x[1], x[2]), unflatten(f.read_doubles(g + "/modes", {6, n}), 6, n)});
+      }
   for (const auto &name : in_index_order(f, "/arms"))
     {
       const std::string g = "/arms/" + name;

@@ -74,6 +74,13 @@ ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &b
 
   std::vector<Vector<double>> full;
   for (const auto &phi : basis.modes) full.push_back(model.expand(phi));
+  for (const auto &p : model.output_points())
+    {
+      ReducedBody::Interface o{p.name, p.position, FullMatrix<double>(6, n)};
+      for (unsigned int k = 0; k < n; ++k)
+        for (unsigned int c = 0; c < 6; ++c) o.modes(c, k) = full[k][p.full_dofs[c]];
+      r.output_points.push_back(o);
+    }
   for (unsigned int a = 0; a < model.n_arms(); ++a) r.arms.push_back(arm_mode_data(model, a, full));
 
   // Drawing: the solid's boundary faces as quadratic quads (linear elements repeat corners at

@@ -39,6 +39,7 @@ struct ReducedBody
     dealii::FullMatrix<double> modes; ///< 6 x n: (u_x, u_y, u_z, theta_x, theta_y, theta_z) of each mode
   };
   std::vector<Interface> interfaces;
+  std::vector<Interface> output_points; ///< same layout; reported and exported, nothing attaches
   std::vector<ArmModeData> arms;
 
   // Drawing: points of the surface (solid) and centre lines (arms), and each mode's translation

@@ -424,3 +424,39 @@ TEST(ReducedBody, floating_frame_mass_matrix_and_quadratic_velocity_equal_the_fu
       EXPECT_NEAR(Qv[j], -(L[j] * Ma), 1e-10 * scale_Q) << j;
     }
 }
+
+TEST(ReducedBody, output_points_follow_rigid_motions_and_add_no_stiffness)
+{
+  // An output point on the solid follows its region's mean translation and least-squares
+  // rotation (RBE3-like). (1) Rigid motions of the body arrive exactly at the point: a
+  // translation e_a, a rotation e_a x x_p with rotation e_a (1e-12). (2) It adds no stiffness:
+  // the body's frequencies with and without it are equal to 1e-12.
+  const std::string extra = " set Interfaces = tip: arm boom at 0.6\n";
+  const auto with = io::read_body_scene_from_string(bracket_scene(
+    "", extra + " set Output points = corner: point 0.2 0.1 0.1, within 0.03\n",
+    " set Method = free interface\n set Number of normal modes = 4\n"));
+  const auto without = io::read_body_scene_from_string(bracket_scene("", extra, " set Method = free interface\n set Number of normal modes = 4\n"));
+  const fem::BodyModel model(with.body), plain(without.body);
+  ASSERT_EQ(model.output_points().size(), 1u);
+  const auto &corner = model.output_points()[0];
+  const auto rigid = model.rigid_body_modes();
+  for (unsigned int k = 0; k < 6; ++k)
+    {
+      const auto x = model.expand(rigid[k]);
+      Tensor<1, 3> u, theta;
+      if (k < 3)
+        u[k] = 1;
+      else
+        {
+          u = cross_product_3d(Tensor<1, 3>(Point<3>::unit_vector(k - 3)), Tensor<1, 3>(corner.position));
+          theta[k - 3] = 1;
+        }
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          EXPECT_NEAR(x[corner.full_dofs[d]], u[d], 1e-12) << k << d;
+          EXPECT_NEAR(x[corner.full_dofs[3 + d]], theta[d], 1e-12) << k << d;
+        }
+    }
+  const auto f_with = full_eigenvalues(model, 10), f_without = full_eigenvalues(plain, 10);
+  for (unsigned int i = 6; i < 10; ++i) EXPECT_NEAR(f_with[i], f_without[i], 1e-12 * f_without[i]) << i;
+}

@@ -157,7 +157,8 @@ FemFile read_fem_strictly(const std::string &text)
 const std::string bracket =
   "set Model = body\nsubsection Body\n set Arms = boom\n set Ties = boom: rigid, within 0.03\n"
   " set Interfaces = tip: arm boom at 0.6; side: point 0.2 0.05 0.1, within 0.03\n"
-  " set Point masses = tip: 0.3, 1e-4, 2e-4, 3e-4\nend\n"
+  " set Point masses = tip: 0.3, 1e-4, 2e-4, 3e-4\n"
+  " set Output points = mid: arm boom at 0.3; corner: point 0.2 0.1 0.1, within 0.03\nend\n"
   "subsection Solid\n set Mesh = box\n set Supports =\n subsection Box\n  set Size = 0.2, 0.1, 0.1\n"
   "  set Cells = 4, 2, 2\n end\nend\n"
   "subsection Arm boom\n subsection Curve\n  set Kind = line\n  subsection Line\n   set Start point = 0.2, 0.05, 0.05\n"
@@ -194,8 +195,8 @@ TEST(MbdynExport, fem_file_passes_the_strict_reader_and_matches_the_fe_model)
   const FemFile fem = read_fem_strictly(text);
   const unsigned int n = basis.modes.size();
   ASSERT_EQ(fem.n_modes, n);
-  ASSERT_EQ(fem.n_nodes, 2u);
-  EXPECT_EQ(fem.labels, (std::vector<std::string>{"tip", "side"}));
+  ASSERT_EQ(fem.n_nodes, 4u); // 2 interfaces, then 2 output points
+  EXPECT_EQ(fem.labels, (std::vector<std::string>{"tip", "side", "mid", "corner"}));
 
   // Independent recomputation on the full model (translation fields, consistent mass).
   const auto &nodes = model.full_nodes();
@@ -226,12 +227,23 @@ TEST(MbdynExport, fem_file_passes_the_strict_reader_and_matches_the_fe_model)
     return a * Mb;
   };
 
-  // RG 8: mode shapes at the interfaces.
+  // RG 8: mode shapes at the interfaces (body dofs) and the output points (through T).
   std::vector<double> rg8;
   for (unsigned int k = 0; k < n; ++k)
-    for (const auto &p : model.interfaces())
-      for (unsigned int c = 0; c < 6; ++c) rg8.push_back(basis.modes[k][p.dofs[c]]);
+    {
+      for (const auto &p : model.interfaces())
+        for (unsigned int c = 0; c < 6; ++c) rg8.push_back(basis.modes[k][p.dofs[c]]);
+      for (const auto &p : model.output_points())
+        for (unsigned int c = 0; c < 6; ++c) rg8.push_back(phi[k][p.full_dofs[c]]);
+    }
   EXPECT_LT(relative_difference(fem.groups.at(8), rg8), 1e-15);
+  // The arm output point's translation is the beam model's own displacement at s = 0.3 m.
+  for (unsigned int k = 0; k < n; ++k)
+    {
+      const auto u = model.arm_displacement(0, 0.3, basis.modes[k]);
+      for (unsigned int c = 0; c < 3; ++c)
+        EXPECT_NEAR(fem.groups.at(8)[(k * 4 + 2) * 6 + c], u[c], 1e-12 * (1 + u.norm()));
+    }
   // RG 9, 10: Phi^T M Phi, Phi^T K Phi on the body's matrices.
   std::vector<double> rg9, rg10;
   Vector<double> Mv(model.n_dofs()), Kv(model.n_dofs());
@@ -302,7 +314,7 @@ TEST(MbdynExport, fem_file_passes_the_strict_reader_and_matches_the_fe_model)
       }
   EXPECT_LT(relative_difference(fem.groups.at(17), rg17), 1e-12);
   EXPECT_LT(relative_difference(fem.groups.at(18), rg18), 1e-12);
-  std::cout << "strict reader: " << n << " modes, 2 nodes; RG 9, 10, 12, 14-18 recomputed from the FE model\n";
+  std::cout << "strict reader: " << n << " modes, 4 nodes; RG 8, 9, 10, 12, 14-18 recomputed from the FE model\n";
 }
 
 TEST(MbdynExport, strict_reader_rejects_deviations_from_the_manual)

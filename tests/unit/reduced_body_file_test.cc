@@ -23,7 +23,7 @@ namespace
 const std::string boom_scene =
   "set Model = body\nsubsection Body\n set Arms = boom\n set Ties = boom: rigid, within 0.03\n"
   " set Interfaces = tip: arm boom at 0.6283185307179586; side: point 0.1 0.05 0.05, within 0.03\n"
-  " set Point masses = tip: 0.2\nend\n"
+  " set Point masses = tip: 0.2\n set Output points = mid: arm boom at 0.3\nend\n"
   "subsection Solid\n set Mesh = box\n set Supports = YMIN: x, y, z\n subsection Box\n  set Size = 0.1, 0.1, 0.1\n"
   "  set Cells = 2, 2, 2\n end\nend\n"
   "subsection Arm boom\n subsection Curve\n  set Kind = arc\n  subsection Arc\n   set Radius = 0.4\n"
@@ -84,6 +84,9 @@ TEST(ReducedBodyFile, reads_back_bit_identically)
   EXPECT_EQ(back.interfaces[0].name, "tip");
   EXPECT_EQ(back.interfaces[1].name, "side");
   for (unsigned int i = 0; i < 2; ++i) EXPECT_TRUE(same_bits(back.interfaces[i].modes, body.interfaces[i].modes));
+  ASSERT_EQ(back.output_points.size(), 1u);
+  EXPECT_EQ(back.output_points[0].name, "mid");
+  EXPECT_TRUE(same_bits(back.output_points[0].modes, body.output_points[0].modes));
   ASSERT_EQ(back.arms.size(), 1u);
   EXPECT_TRUE(same_bits(back.arms[0].values, body.arms[0].values));
   EXPECT_TRUE(same_bits(back.arms[0].cell_s, body.arms[0].cell_s));
