@@ -179,6 +179,50 @@ void CurvedBeamModel::assemble()
   mass.compress(VectorOperation::insert);
 }
 
+void CurvedBeamModel::geometric_stiffness(const Vector<double> &u, TrilinosWrappers::SparseMatrix &K_G) const
+{
+  K_G.reinit(stiffness);
+  const double EA = description.material.youngs_modulus * description.section.area;
+  const unsigned int n = fe.n_dofs_per_cell();
+  // p + 1 Gauss points integrate N u' v' exactly (degree 3p - 3 <= 2p + 1 for p <= 3).
+  const QGauss<1> rule(description.degree + 1);
+  std::vector<unsigned int> component(n);
+  Table<2, double> dN(n, rule.size());
+  for (unsigned int i = 0; i < n; ++i)
+    {
+      component[i] = fe.system_to_component_index(i).first;
+      for (unsigned int q = 0; q < rule.size(); ++q) dN(i, q) = fe.shape_grad_component(i, rule.point(q), component[i])[0];
+    }
+  FullMatrix<double> g_cell(n, n);
+  std::vector<types::global_dof_index> cell_dofs(n);
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      const auto [s0, s1] = mesh.cell_arc_lengths(cell);
+      const double h = s1 - s0;
+      cell->get_dof_indices(cell_dofs);
+      g_cell = 0;
+      for (unsigned int q = 0; q < rule.size(); ++q)
+        {
+          const SectionAxes a = section_axes(description, s0 + h * rule.point(q)[0]);
+          Tensor<1, 3> du; // u' at the point
+          for (unsigned int i = 0; i < n; ++i)
+            if (component[i] < 3) du[component[i]] += dN(i, q) / h * u[cell_dofs[i]];
+          const double N = EA * (a.t[0] * du[0] + a.t[1] * du[1] + a.t[2] * du[2]);
+          const double dx = h * rule.weight(q);
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j < n; ++j)
+              {
+                const unsigned int ci = component[i], cj = component[j];
+                if (ci >= 3 || cj >= 3) continue;
+                const double projector = (ci == cj ? 1.0 : 0.0) - a.t[ci] * a.t[cj];
+                g_cell(i, j) += N * (dN(i, q) / h) * (dN(j, q) / h) * projector * dx;
+              }
+        }
+      K_G.add(cell_dofs, g_cell);
+    }
+  K_G.compress(VectorOperation::add);
+}
+
 std::pair<DoFHandler<1, 3>::active_cell_iterator, double> CurvedBeamModel::locate(const double s) const
 {
   for (const auto &cell : dofs.active_cell_iterators())

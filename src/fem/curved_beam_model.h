@@ -49,6 +49,10 @@ public:
   const ArmMesh &mesh_of_arm() const { return mesh; }
   /// Nodal load vector of a point force @p F [N] (global axes) at arc length @p s [m].
   dealii::Vector<double> point_load(double s, const dealii::Tensor<1, 3> &F) const;
+  /// Geometric stiffness of the axial force in the deformed state @p u (a static solution):
+  /// K_G = int N(s) u'_perp . v'_perp ds, N = EA t . u' the axial force [N], u'_perp the part of
+  /// the displacement slope across the tangent. Same pattern as K; supports not applied.
+  void geometric_stiffness(const dealii::Vector<double> &u, dealii::TrilinosWrappers::SparseMatrix &K_G) const;
   /// Displacement [m] at arc length @p s of the dof vector @p u.
   dealii::Tensor<1, 3> displacement_at(double s, const dealii::Vector<double> &u) const;
 

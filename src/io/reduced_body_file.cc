@@ -67,6 +67,13 @@ void write_file(const ReducedBody &b, const std::string &name)
   f.write("/reduced/mass", {n, n}, flatten(b.mass).data());
   f.write("/reduced/damping", {n, n}, flatten(b.damping).data());
   f.write("/reduced/frequencies_hz", {n}, b.frequencies_hz.data());
+  if (!b.geometric_stiffness.empty())
+    {
+      std::vector<double> G;
+      for (const auto &g : b.geometric_stiffness)
+        for (const double x : flatten(g)) G.push_back(x);
+      f.write("/reduced/geometric_stiffness", {12, n, n}, G.data());
+    }
 
   const auto &inv = b.invariants;
   f.create_group("/inertia");
@@ -173,6 +180,13 @@ ReducedBody read_file(const std::string &name)
   b.mass = unflatten(f.read_doubles("/reduced/mass", {n, n}), n, n);
   b.damping = unflatten(f.read_doubles("/reduced/damping", {n, n}), n, n);
   b.frequencies_hz = f.read_doubles("/reduced/frequencies_hz", {n});
+  if (f.exists("/reduced/geometric_stiffness"))
+    {
+      const auto G = f.read_doubles("/reduced/geometric_stiffness", {12, n, n});
+      for (unsigned int c = 0; c < 12; ++c)
+        b.geometric_stiffness.push_back(
+          unflatten(std::vector<double>(G.begin() + c * n * n, G.begin() + (c + 1) * n * n), n, n));
+    }
 
   auto &inv = b.invariants;
   inv.mass = f.read_doubles("/inertia/mass", {1})[0];

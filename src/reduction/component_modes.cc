@@ -34,6 +34,10 @@ void ReductionSettings::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Check modes", "0", Patterns::Integer(0),
                     "After reducing, also solve the full FE model for this many lowest frequencies and report "
                     "the largest relative difference and both run times [-]; 0 = no check.");
+  prm.declare_entry("Geometric stiffness", "false", Patterns::Bool(),
+                    "Also compute the geometric stiffness of inertial loads (12 unit cases: centrifugal, "
+                    "frame acceleration, angular acceleration), so that fast rotating arms stiffen: the axial "
+                    "force of each case's static solution times the arms' slope terms, projected on the modes.");
   prm.declare_entry("Damping ratio", "0", Patterns::Double(0),
                     "Modal damping ratio zeta of every reduced mode [-]: C = diag(2 zeta w_i).");
   prm.declare_entry("Rayleigh mass coefficient", "0", Patterns::Double(0),
@@ -56,6 +60,7 @@ ReductionSettings ReductionSettings::parse_parameters(ParameterHandler &prm)
   for (std::string name; in >> name;) s.track_arms.push_back(name);
   s.n_stations = prm.get_integer("Track stations");
   s.n_check_modes = prm.get_integer("Check modes");
+  s.geometric_stiffness = prm.get_bool("Geometric stiffness");
   s.damping_ratio = prm.get_double("Damping ratio");
   s.rayleigh_mass = prm.get_double("Rayleigh mass coefficient");
   s.rayleigh_stiffness = prm.get_double("Rayleigh stiffness coefficient");
@@ -222,6 +227,81 @@ Vector<double> inertia_relief(const Vector<double> &f, const MOrthonormalSet &R)
   Vector<double> g = f;
   for (unsigned int j = 0; j < R.vectors.size(); ++j) g.add(-(R.vectors[j] * f), R.M_vectors[j]);
   return g;
+}
+/// The 12 unit inertial load cases (ReducedBasis::geometric_stiffness): static solution with
+/// the body's supports (a free body: inertia relief, held at its first interface), the arms'
+/// geometric stiffness of that state, projected on the modes.
+std::vector<FullMatrix<double>> geometric_stiffness_of_inertial_loads(const fem::BodyModel &body,
+                                                                      const std::vector<Vector<double>> &modes,
+                                                                      const MOrthonormalSet &R)
+{
+  std::vector<unsigned int> hold;
+  if (!body.is_supported())
+    {
+      if (body.interfaces().empty())
+        throw InputError("Reduction/Geometric stiffness", "a free body needs an interface to hold it in the static "
+                                                           "solves of its inertial loads; add one, or support the body");
+      hold.assign(body.interfaces()[0].dofs.begin(), body.interfaces()[0].dofs.end());
+    }
+  ClampedBody held(body, hold);
+  const auto &nodes = body.full_nodes();
+  std::vector<Vector<double>> loads;
+  for (unsigned int c = 0; c < 12; ++c)
+    {
+      Tensor<2, 3> W;
+      if (c < 3)
+        W[c][c] = 1;
+      else if (c < 6)
+        {
+          const unsigned int a = c == 5 ? 1 : 0, b = c == 3 ? 1 : 2;
+          W[a][b] = W[b][a] = 1;
+        }
+      Vector<double> field(body.n_full_dofs()), f(body.n_full_dofs());
+      for (const auto &node : nodes)
+        {
+          const Tensor<1, 3> x(node.x);
+          Tensor<1, 3> v; // inertial force per unit mass
+          if (c < 6)
+            v = trace(W) * x - W * x; // -omega x (omega x x) for W = omega omega^T
+          else if (c < 9)
+            v[c - 6] = -1;
+          else
+            v = -cross_product_3d(Tensor<1, 3>(Point<3>::unit_vector(c - 9)), x);
+          for (unsigned int d = 0; d < 3; ++d) field[node.u[d]] = v[d];
+        }
+      body.full_mass_vmult(f, field);
+      Vector<double> g = body.condense(f);
+      if (!R.vectors.empty()) g = inertia_relief(g, R);
+      loads.push_back(std::move(g));
+    }
+  const auto states = held.solve_many(loads);
+  std::vector<Vector<double>> full_modes;
+  for (const auto &m : modes) full_modes.push_back(body.expand(m));
+  const unsigned int n = modes.size();
+  std::vector<FullMatrix<double>> G(12, FullMatrix<double>(n, n));
+  for (unsigned int c = 0; c < 12; ++c)
+    {
+      const Vector<double> u = body.expand(states[c]);
+      for (unsigned int a = 0; a < body.n_arms(); ++a)
+        {
+          const auto &arm = body.arm_model(a);
+          const unsigned int offset = body.arm_offset(a), m = arm.n_dofs();
+          Vector<double> ua(m), pa(m), Gp(m);
+          for (unsigned int i = 0; i < m; ++i) ua[i] = u[offset + i];
+          TrilinosWrappers::SparseMatrix K_G;
+          arm.geometric_stiffness(ua, K_G);
+          std::vector<Vector<double>> arm_modes(n, Vector<double>(m));
+          for (unsigned int k = 0; k < n; ++k)
+            for (unsigned int i = 0; i < m; ++i) arm_modes[k][i] = full_modes[k][offset + i];
+          for (unsigned int k = 0; k < n; ++k)
+            {
+              K_G.vmult(Gp, arm_modes[k]);
+              for (unsigned int j = 0; j < n; ++j) G[c](j, k) += arm_modes[j] * Gp;
+            }
+        }
+      G[c].symmetrize();
+    }
+  return G;
 }
 } // namespace
 
@@ -418,6 +498,12 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
   r.stiffness.triple_product(K_basis, T, T, true, false);
   r.mass.triple_product(M_basis, T, T, true, false);
   lap("project and diagonalise");
+  if (settings.geometric_stiffness)
+    {
+      r.geometric_stiffness = geometric_stiffness_of_inertial_loads(
+        body, r.modes, n_rigid ? R : free_body ? orthonormal_rigid_modes(body) : MOrthonormalSet());
+      lap("geometric stiffness");
+    }
   r.damping.reinit(n, n);
   for (unsigned int a = 0; a < n; ++a)
     for (unsigned int b = 0; b < n; ++b)

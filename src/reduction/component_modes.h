@@ -45,6 +45,7 @@ struct ReductionSettings
   double rayleigh_stiffness = 0;         ///< Rayleigh beta [s]: C += beta K
   ModalSettings modal;                   ///< eigen solver settings (tolerance, direct solver)
   unsigned int n_check_modes = 0;        ///< compare this many frequencies with the full model [-]
+  bool geometric_stiffness = false;      ///< compute the geometric stiffness of inertial loads
 
   static void declare_parameters(dealii::ParameterHandler &prm);
   /// Reads "subsection Reduction" (and the eigen solver settings of "Modal analysis").
@@ -62,6 +63,12 @@ struct ReducedBasis
   unsigned int n_dropped = 0;   ///< static vectors dropped as dependent
   std::vector<double> frequencies_hz() const; ///< of the reduced model, ascending
   std::vector<std::pair<std::string, double>> timings; ///< wall time [s] of each step
+  /// Geometric stiffness of the 12 unit inertial load cases (empty unless asked for), each n x n:
+  /// 0-5 centrifugal, W = omega omega^T = e_x e_x^T, e_y e_y^T, e_z e_z^T, e_x e_y^T + e_y e_x^T,
+  /// e_x e_z^T + e_z e_x^T, e_y e_z^T + e_z e_y^T; 6-8 acceleration e_x, e_y, e_z of the frame
+  /// origin; 9-11 angular acceleration e_x, e_y, e_z (all in body axes). Only the arms carry
+  /// geometric stiffness (their axial force); solid parts are taken as stiff.
+  std::vector<dealii::FullMatrix<double>> geometric_stiffness;
 };
 
 /// Reduce @p body. Throws InputError for impossible requests (more modes than dofs, a free body

@@ -48,6 +48,18 @@ ArmModeData arm_mode_data(const fem::BodyModel &model, const unsigned int a, con
 }
 } // namespace
 
+FullMatrix<double> stiffness_with_inertial_loads(const ReducedBody &body, const Tensor<1, 3> &w, const Tensor<1, 3> &a,
+                                                 const Tensor<1, 3> &alpha)
+{
+  FullMatrix<double> K = body.stiffness;
+  if (body.geometric_stiffness.empty()) return K;
+  const double c[12] = {w[0] * w[0], w[1] * w[1], w[2] * w[2], w[0] * w[1], w[0] * w[2], w[1] * w[2],
+                        a[0],        a[1],        a[2],        alpha[0],    alpha[1],    alpha[2]};
+  for (unsigned int k = 0; k < 12; ++k)
+    if (c[k] != 0) K.add(c[k], body.geometric_stiffness[k]);
+  return K;
+}
+
 ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &basis, const std::string &method)
 {
   ReducedBody r;
@@ -61,6 +73,7 @@ ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &b
   r.mass = basis.mass;
   r.damping = basis.damping;
   r.frequencies_hz = basis.frequencies_hz();
+  r.geometric_stiffness = basis.geometric_stiffness;
   r.invariants = compute_inertia_invariants(model, basis.modes);
   const unsigned int n = basis.modes.size();
 

@@ -30,6 +30,8 @@ struct ReducedBody
   // Reduced model (n = number of modes)
   dealii::FullMatrix<double> stiffness, mass, damping; ///< n x n [N/m], [kg], [N s/m] per modal unit
   std::vector<double> frequencies_hz;                  ///< n, of the reduced model
+  /// 12 x (n x n), or empty: geometric stiffness of unit inertial loads (ReducedBasis).
+  std::vector<dealii::FullMatrix<double>> geometric_stiffness;
   InertiaInvariants invariants;
 
   struct Interface
@@ -50,6 +52,14 @@ struct ReducedBody
 
   unsigned int n_modes() const { return stiffness.m(); }
 };
+
+/// K_r + sum_c coefficient_c G_c: the reduced stiffness under the inertial loads of a body frame
+/// turning at @p omega [rad/s], its origin accelerating at @p acceleration [m/s^2] (minus gravity
+/// for a body under gravity g), turning faster at @p angular_acceleration [rad/s^2], all in body
+/// axes. Without geometric stiffness in the body, K_r.
+dealii::FullMatrix<double> stiffness_with_inertial_loads(const ReducedBody &body, const dealii::Tensor<1, 3> &omega,
+                                                         const dealii::Tensor<1, 3> &acceleration,
+                                                         const dealii::Tensor<1, 3> &angular_acceleration);
 
 /// Collect the reduced body of @p model reduced to @p basis.
 ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &basis, const std::string &method);

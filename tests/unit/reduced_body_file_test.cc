@@ -30,7 +30,7 @@ const std::string boom_scene =
   "   set Centre = -0.35, 0.1, 0.05\n  end\n end\n subsection Supports\n  set Start = free\n end\n"
   " subsection Mesh\n  set Number of elements = 12\n  set Element degree = 3\n end\nend\n"
   "subsection Reduction\n set Number of normal modes = 6\n set Track arms = boom\n set Track stations = 4\n"
-  " set Damping ratio = 0.02\nend\n";
+  " set Damping ratio = 0.02\n set Geometric stiffness = true\nend\n";
 
 template <typename T>
 bool same_bits(const T &a, const T &b)
@@ -75,6 +75,8 @@ TEST(ReducedBodyFile, reads_back_bit_identically)
   EXPECT_TRUE(same_bits(back.mass, body.mass));
   EXPECT_TRUE(same_bits(back.damping, body.damping));
   EXPECT_TRUE(same_bits(back.frequencies_hz, body.frequencies_hz));
+  ASSERT_EQ(back.geometric_stiffness.size(), 12u);
+  for (unsigned int c = 0; c < 12; ++c) EXPECT_TRUE(same_bits(back.geometric_stiffness[c], body.geometric_stiffness[c]));
   EXPECT_EQ(std::memcmp(&back.invariants.mass, &body.invariants.mass, sizeof(double)), 0);
   EXPECT_TRUE(same_bits(back.invariants.I3, body.invariants.I3));
   EXPECT_TRUE(same_bits(back.invariants.I4, body.invariants.I4));
@@ -118,8 +120,10 @@ TEST(ReducedBodyFile, input_hash_follows_every_input)
   EXPECT_NE(changed("tip: 0.2", "tip: 0.25"), base);
   EXPECT_NE(changed("set Track stations = 4", "set Track stations = 5"), base);
   EXPECT_NE(changed("set Number of normal modes = 6", "set Number of normal modes = 7"), base);
-  EXPECT_EQ(changed("set Damping ratio = 0.02", "set Damping ratio = 0.02\nend\nsubsection Output\n set Directory = elsewhere"),
+  EXPECT_EQ(changed("set Geometric stiffness = true\nend\n",
+                    "set Geometric stiffness = true\nend\nsubsection Output\n set Directory = elsewhere\nend\n"),
             base);
+  EXPECT_NE(changed("set Geometric stiffness = true", "set Geometric stiffness = false"), base);
 
   // A mesh file: change the last digit of one coordinate (a sub-micrometre move), the hash
   // changes; restore it, the hash returns.
