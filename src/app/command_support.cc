@@ -15,6 +15,13 @@ namespace flextrack::app
 using namespace dealii;
 namespace fs = std::filesystem;
 
+std::string output_directory(const std::string &option, const std::string &scene_directory, const std::string &file)
+{
+  if (!option.empty()) return option;
+  if (!scene_directory.empty()) return scene_directory;
+  return "output/" + fs::path(file).stem().string();
+}
+
 void make_directory(const std::string &dir)
 {
   std::error_code ec;

@@ -10,6 +10,9 @@
 
 namespace flextrack::app
 {
+/// The output folder of a run: -o, else the scene's Output/Directory, else
+/// output/<parameter file name without extension>.
+std::string output_directory(const std::string &option, const std::string &scene_directory, const std::string &file);
 /// Create @p dir (and parents); InputError if it cannot be created.
 void make_directory(const std::string &dir);
 /// Peak resident memory of this process so far [MiB].

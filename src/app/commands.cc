@@ -31,12 +31,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string output_directory(const Options &options, const io::ArmScene &scene)
-{
-  if (!options.output_directory.empty()) return options.output_directory;
-  if (!scene.output.directory.empty()) return scene.output.directory;
-  return "output/" + fs::path(options.file).stem().string();
-}
 
 
 
@@ -145,7 +139,7 @@ int modes(const Options &options)
   const std::vector<double> f = run.modes.frequencies_hz();
 
   // Every computation has succeeded: now write the results.
-  const std::string dir = output_directory(options, scene);
+  const std::string dir = output_directory(options.output_directory, scene.output.directory, options.file);
   {
     TimerOutput::Scope t(timer, "write output");
     make_directory(dir);
@@ -253,7 +247,7 @@ int converge(const Options &options)
         std::cout << row.str() << "\n";
       }
 
-  const std::string dir = output_directory(options, scene);
+  const std::string dir = output_directory(options.output_directory, scene.output.directory, options.file);
   make_directory(dir);
   write_text(dir + "/convergence.csv", csv.str());
   // Plot: relative error against the finest level versus dofs, log-log, one line per mode.

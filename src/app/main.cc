@@ -5,6 +5,7 @@
 //   2 = bad input (file, entry, allowed values), 3 = solver failure, 4 = internal error.
 #include <app/commands.h>
 #include <geometry/section_frame.h>
+#include <io/body_export.h>
 #include <io/input_error.h>
 #include <reduction/modal_solver.h>
 
@@ -12,6 +13,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -111,10 +113,11 @@ int dispatch(const std::vector<std::string> &args)
         }
       else if (args[i] == "--format" && command == "export")
         {
-          if (++i == args.size()) return usage_error("--format needs a format name: mbdyn or vtu");
+          const auto &known = flextrack::io::export_formats();
+          if (++i == args.size()) return usage_error("--format needs a format name: " + flextrack::io::export_format_list());
           options.format = args[i];
-          if (options.format != "mbdyn" && options.format != "vtu")
-            return usage_error("unknown export format '" + options.format + "'; allowed: mbdyn, vtu");
+          if (std::find(known.begin(), known.end(), options.format) == known.end())
+            return usage_error("unknown export format '" + options.format + "'; allowed: " + flextrack::io::export_format_list());
         }
       else if (!args[i].empty() && args[i][0] == '-')
         return usage_error("unknown option '" + args[i] + "' for " + command);
@@ -128,7 +131,7 @@ int dispatch(const std::vector<std::string> &args)
   if (command == "inspect") return inspect(options);
   if (command == "export")
     {
-      if (options.format.empty()) return usage_error("export needs --format mbdyn or --format vtu");
+      if (options.format.empty()) return usage_error("export needs --format FORMAT; allowed: " + flextrack::io::export_format_list());
       return export_body(options);
     }
   if (command == "converge")

@@ -68,9 +68,7 @@ int reduce(const Options &options)
         throw InputError("Arm */Section frame/Kind", e.what(), options.file);
       }
   }
-  std::string dir = options.output_directory;
-  if (dir.empty()) dir = scene.output.directory;
-  if (dir.empty()) dir = "output/" + fs::path(options.file).stem().string();
+  const std::string dir = output_directory(options.output_directory, scene.output.directory, options.file);
   const std::string file = dir + "/reduced_body.h5";
   std::cout << "flextrack reduce: " << options.file << " (input hash " << scene.input_hash << ")" << std::endl;
 

@@ -495,21 +495,7 @@ Vector<double> BodyModel::condense(const Vector<double> &f) const
 void BodyModel::full_mass_vmult(Vector<double> &dst, const Vector<double> &src) const
 {
   dst.reinit(n_full);
-  auto part = [&](const TrilinosWrappers::SparseMatrix &M, const unsigned int offset) {
-    const Epetra_CrsMatrix &m = M.trilinos_matrix();
-    for (int r = 0; r < m.NumMyRows(); ++r)
-      {
-        int n, *idx;
-        double *v;
-        m.ExtractMyRowView(r, n, v, idx);
-        double sum = 0;
-        for (int e = 0; e < n; ++e) sum += v[e] * src[offset + m.ColMap().GID(idx[e])];
-        dst[offset + m.RowMap().GID(r)] += sum;
-      }
-  };
-  if (solid) part(solid->mass_matrix(), 0);
-  for (unsigned int a = 0; a < arm_models.size(); ++a) part(arm_models[a]->mass_matrix(), arm_offsets[a]);
-  for (const auto &[ij, value] : point_mass_entries) dst[ij[0]] += value * src[ij[1]];
+  full_mass_multiply(src.begin(), 1, dst.begin());
 }
 
 void BodyModel::full_mass_multiply(const double *X, const unsigned int m, double *Y) const

@@ -1,6 +1,9 @@
 #include <io/arm_scene.h>
+#include <io/body_export.h>
 #include <io/input_error.h>
+#include <io/parse_error.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -38,8 +41,9 @@ OutputSettings OutputSettings::parse_parameters(ParameterHandler &prm)
   std::istringstream list(formats);
   for (std::string f; list >> f;)
     {
-      if (f != "mbdyn" && f != "vtu")
-        throw InputError("Output/Export formats", "unknown export format '" + f + "'; allowed: mbdyn, vtu");
+      const auto &known = io::export_formats();
+      if (std::find(known.begin(), known.end(), f) == known.end())
+        throw InputError("Output/Export formats", "unknown export format '" + f + "'; allowed: " + export_format_list());
       s.export_formats.push_back(f);
     }
   prm.leave_subsection();
@@ -80,19 +84,6 @@ ArmScene build_scene(ParameterHandler &prm, const std::string &file, const std::
     }
 }
 
-/// deal.II's parse errors carry their explanation in print_info(); keep only that.
-std::string explain(const dealii::ExceptionBase &e)
-{
-  std::ostringstream s;
-  e.print_info(s);
-  std::string text = s.str();
-  for (auto &c : text)
-    if (c == '\n') c = ' ';
-  std::string compact;
-  for (const char c : text)
-    if (!(c == ' ' && !compact.empty() && compact.back() == ' ')) compact += c;
-  return compact;
-}
 } // namespace
 
 ArmScene read_arm_scene(const std::string &file, ParameterHandler &prm)
@@ -105,7 +96,7 @@ ArmScene read_arm_scene(const std::string &file, ParameterHandler &prm)
     }
   catch (const dealii::ExceptionBase &e)
     {
-      throw InputError("", explain(e), file);
+      throw InputError("", parse_error_text(e), file);
     }
   const auto parent = std::filesystem::path(file).parent_path().string();
   return build_scene(prm, file, parent.empty() ? "." : parent);
@@ -119,7 +110,7 @@ ArmScene read_arm_scene_from_string(const std::string &text, ParameterHandler &p
     }
   catch (const dealii::ExceptionBase &e)
     {
-      throw InputError("", explain(e), "<string>");
+      throw InputError("", parse_error_text(e), "<string>");
     }
   return build_scene(prm, "<string>", directory);
 }

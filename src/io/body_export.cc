@@ -18,6 +18,13 @@ const std::vector<std::string> &export_formats()
   return formats;
 }
 
+std::string export_format_list()
+{
+  std::string list;
+  for (const auto &f : export_formats()) list += (list.empty() ? "" : ", ") + f;
+  return list;
+}
+
 std::vector<std::string> export_reduced_body(const reduction::ReducedBody &body, const std::string &format,
                                              const std::string &directory, const std::string &stem,
                                              const std::string &entry)
@@ -32,11 +39,7 @@ std::vector<std::string> export_reduced_body(const reduction::ReducedBody &body,
   else if (format == "vtu")
     files.emplace_back(stem + "_modes.vtu", mode_shapes_vtu_text(body));
   else
-    {
-      std::string allowed;
-      for (const auto &f : export_formats()) allowed += (allowed.empty() ? "" : ", ") + f;
-      throw InputError(entry, "unknown export format '" + format + "'; allowed: " + allowed);
-    }
+    throw InputError(entry, "unknown export format '" + format + "'; allowed: " + export_format_list());
 
   std::error_code ec;
   fs::create_directories(directory, ec);

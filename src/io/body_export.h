@@ -11,8 +11,10 @@
 
 namespace flextrack::io
 {
-/// The formats export_reduced_body knows, for messages: "mbdyn, vtu".
+/// The formats export_reduced_body knows: mbdyn, vtu.
 const std::vector<std::string> &export_formats();
+/// The same as "mbdyn, vtu", for messages.
+std::string export_format_list();
 
 /// Writes @p body in @p format into @p directory (created if missing); returns the files
 /// written. Throws InputError naming the entry @p entry for an unknown format, a folder that

@@ -1,5 +1,6 @@
 #include <io/body_scene.h>
 #include <io/input_error.h>
+#include <io/parse_error.h>
 
 #include <filesystem>
 #include <fstream>
@@ -31,19 +32,6 @@ void declare_model_entry(ParameterHandler &prm)
                     "named arms, subsection Body, reduced by 'flextrack reduce').");
 }
 
-std::string explain(const dealii::ExceptionBase &e)
-{
-  std::ostringstream s;
-  e.print_info(s);
-  std::string text;
-  for (const char c : s.str())
-    {
-      const char d = c == '\n' ? ' ' : c;
-      if (!(d == ' ' && !text.empty() && text.back() == ' ')) text += d;
-    }
-  return text;
-}
-
 /// Parse text (from a file or a string) into @p prm; deal.II's errors become InputError.
 void parse(ParameterHandler &prm, const std::string &text, const std::string &name, const bool skip_undefined)
 {
@@ -53,7 +41,7 @@ void parse(ParameterHandler &prm, const std::string &text, const std::string &na
     }
   catch (const dealii::ExceptionBase &e)
     {
-      throw InputError("", explain(e), name);
+      throw InputError("", parse_error_text(e), name);
     }
 }
 

@@ -138,21 +138,13 @@ public:
   const TrilinosWrappers::SparseMatrix &K() const { return *K_ptr; }
   const TrilinosWrappers::SparseMatrix &M() const { return *M_ptr; }
   unsigned int size() const { return kept.size(); }
-  /// x = K_c^{-1} b for a body-dof load b; zero on the clamped dofs. Factorises on first use.
-  Vector<double> solve(const Vector<double> &b)
-  {
-    Vector<double> bc(kept.size()), xc(kept.size());
-    for (unsigned int j = 0; j < kept.size(); ++j) bc[j] = b[kept[j]];
-    factorization().solve(bc.begin(), xc.begin());
-    return expand(xc);
-  }
   /// Cholesky factor of K (of the kept dofs), made on first use.
   const SparseFactorization &factorization()
   {
     if (!factor) factor = std::make_unique<SparseFactorization>(K(), M(), 0.0, "cholmod");
     return *factor;
   }
-  /// The same for several loads at once.
+  /// x_c = K_c^{-1} b_c for body-dof loads b_c (zero on the clamped dofs), all in one solve.
   std::vector<Vector<double>> solve_many(const std::vector<Vector<double>> &loads)
   {
     const std::size_t m = kept.size(), k = loads.size();
@@ -356,7 +348,6 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
     }
 
   MOrthonormalSet basis;
-  std::vector<double> eigenvalues; // of the normal modes, for the residual flexibility
   if (settings.n_normal_modes > 0)
     {
       ModalSettings modal = settings.modal;
@@ -366,15 +357,13 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
       // Craig-Bampton: K with the interfaces clamped is positive definite, so shift 0 works and
       // one Cholesky factor serves the eigen solve and all static solves.
       const bool share = craig_bampton && std::isnan(modal.shift) && (modal.direct_solver == "auto" || modal.direct_solver == "cholmod");
-      const double shift = share ? 0.0 : std::isnan(modal.shift) ? automatic_shift(K_eig, M_eig) : modal.shift;
       if (share)
         {
           anchored.factorization();
           lap("factorise (Cholesky)");
         }
       const Modes modes = share ? lowest_modes(K_eig, M_eig, n_free, modal, 0.0, anchored.factorization())
-                                : lowest_modes(K_eig, M_eig, n_free, modal, shift,
-                                               modal.direct_solver == "auto" ? "cholmod" : modal.direct_solver);
+                                : lowest_modes(K_eig, M_eig, n_free, modal);
       if (n_rigid == 0 && modes.eigenvalues[0] < 1e-10 * std::abs(modes.eigenvalues.back()))
         throw SolverError("the " + std::string(free_body ? "body, held at its first interface," : "supported body") +
                           " still has a zero-energy mode (eigenvalue " + std::to_string(modes.eigenvalues[0]) +
@@ -393,7 +382,7 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
       for (unsigned int i = n_rigid; i < modes.shapes.size(); ++i)
         {
           Vector<double> phi = craig_bampton ? anchored.expand(modes.shapes[i]) : modes.shapes[i];
-          if (basis.append(phi, R, M)) eigenvalues.push_back(modes.eigenvalues[i]);
+          basis.append(phi, R, M);
         }
       r.n_normal = basis.vectors.size();
       lap("eigen solve");
@@ -525,9 +514,7 @@ std::vector<double> full_model_frequencies_hz(const fem::BodyModel &body, const 
   const unsigned int n_rigid = (free_body && clamped.empty()) ? 6 : 0;
   ModalSettings modal = settings.modal;
   modal.n_modes = std::min(n + n_rigid, model.size() - 1);
-  const double shift = std::isnan(modal.shift) ? automatic_shift(model.K(), model.M()) : modal.shift;
-  const Modes modes = lowest_modes(model.K(), model.M(), model.size(), modal, shift,
-                                   modal.direct_solver == "auto" ? "cholmod" : modal.direct_solver);
+  const Modes modes = lowest_modes(model.K(), model.M(), model.size(), modal);
   std::vector<double> f;
   for (unsigned int i = n_rigid; i < modes.eigenvalues.size(); ++i) f.push_back(frequency_hz(modes.eigenvalues[i]));
   return f;

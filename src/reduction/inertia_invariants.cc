@@ -43,10 +43,15 @@ Tensor<1, 3> InertiaInvariants::I5(const unsigned int j, const unsigned int k) c
 
 InertiaInvariants compute_inertia_invariants(const fem::BodyModel &body, const std::vector<Vector<double>> &modes)
 {
-  const auto &nodes = body.full_nodes();
-  const unsigned int n = modes.size(), N = nodes.size(), n_full = body.n_full_dofs();
   std::vector<Vector<double>> full;
   for (const auto &phi : modes) full.push_back(body.expand(phi));
+  return compute_inertia_invariants_of_expanded(body, full);
+}
+
+InertiaInvariants compute_inertia_invariants_of_expanded(const fem::BodyModel &body, const std::vector<Vector<double>> &full)
+{
+  const auto &nodes = body.full_nodes();
+  const unsigned int n = full.size(), N = nodes.size(), n_full = body.n_full_dofs();
 
   // Scalar fields at the nodes: 1, x, y, z, then phi_k,a. All scalar products int rho f g use
   // the x-displacement block of the mass matrix (every block of the translations is the same).

@@ -51,6 +51,9 @@ struct InertiaInvariants
 /// The invariants of @p modes (body dofs) of @p body, about the global origin and axes (the body
 /// frame of the undeformed body).
 InertiaInvariants compute_inertia_invariants(const fem::BodyModel &body, const std::vector<dealii::Vector<double>> &modes);
+/// The same from modes already expanded to the full dofs (BodyModel::expand).
+InertiaInvariants compute_inertia_invariants_of_expanded(const fem::BodyModel &body,
+                                                         const std::vector<dealii::Vector<double>> &full_modes);
 
 class FloatingFrameInertia
 {

@@ -218,11 +218,15 @@ double automatic_shift(const TrilinosWrappers::SparseMatrix &K, const TrilinosWr
   return -1e-6 * largest;
 }
 
+Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
+                   const unsigned int n_free, const ModalSettings &settings)
+{
+  const double shift = std::isnan(settings.shift) ? automatic_shift(K, M) : settings.shift;
+  return lowest_modes(K, M, n_free, settings, shift, settings.direct_solver == "auto" ? "cholmod" : settings.direct_solver);
+}
+
 Modes lowest_modes(const fem::SolidModel &model, const ModalSettings &settings)
 {
-  const double shift = std::isnan(settings.shift) ? automatic_shift(model.stiffness_matrix(), model.mass_matrix())
-                                                  : settings.shift;
-  return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings, shift,
-                      settings.direct_solver == "auto" ? "cholmod" : settings.direct_solver);
+  return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings);
 }
 } // namespace flextrack::reduction

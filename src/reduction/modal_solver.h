@@ -77,6 +77,12 @@ Modes lowest_modes(const fem::CurvedBeamModel &model, const ModalSettings &setti
 double automatic_shift(const dealii::TrilinosWrappers::SparseMatrix &K,
                        const dealii::TrilinosWrappers::SparseMatrix &M);
 
+/// Lowest modes of any K, M with the settings' shift (or the automatic one for K, M) and direct
+/// solver ("auto" = CHOLMOD).
+Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
+                   const dealii::TrilinosWrappers::SparseMatrix &M, unsigned int n_free,
+                   const ModalSettings &settings);
+
 /// Lowest modes of a solid body's FE model.
 Modes lowest_modes(const fem::SolidModel &model, const ModalSettings &settings);
 } // namespace flextrack::reduction

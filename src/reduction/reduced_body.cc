@@ -74,8 +74,10 @@ ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &b
   r.damping = basis.damping;
   r.frequencies_hz = basis.frequencies_hz();
   r.geometric_stiffness = basis.geometric_stiffness;
-  r.invariants = compute_inertia_invariants(model, basis.modes);
   const unsigned int n = basis.modes.size();
+  std::vector<Vector<double>> full;
+  for (const auto &phi : basis.modes) full.push_back(model.expand(phi));
+  r.invariants = compute_inertia_invariants_of_expanded(model, full);
 
   for (const auto &p : model.interfaces())
     {
@@ -85,8 +87,6 @@ ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &b
       r.interfaces.push_back(i);
     }
 
-  std::vector<Vector<double>> full;
-  for (const auto &phi : basis.modes) full.push_back(model.expand(phi));
   for (const auto &p : model.output_points())
     {
       ReducedBody::Interface o{p.name, p.position, FullMatrix<double>(6, n)};
