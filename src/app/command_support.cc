@@ -1,5 +1,5 @@
 #include <app/command_support.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <deal.II/base/mpi.h>
 

@@ -4,10 +4,11 @@
 // half-written results behind.
 #include <app/command_support.h>
 #include <app/commands.h>
+#include <base/external_program.h>
 #include <io/body_scene.h>
 #include <fem/curved_beam_model.h>
 #include <io/arm_scene.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <io/json.h>
 #include <io/mode_shape_writer.h>
 #include <reduction/modal_solver.h>
@@ -98,6 +99,21 @@ ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, Timer
 }
 
 
+
+/// @p text for a single-quoted gnuplot string: a quote doubled (gnuplot's escape) and control
+/// characters dropped, so a scene's text (a mesh file name, an expression) cannot end the string
+/// and smuggle in gnuplot commands such as system().
+std::string gnuplot_single_quoted(const std::string &text)
+{
+  std::string quoted;
+  for (const char c : text)
+    {
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) continue;
+      quoted += c;
+      if (c == '\'') quoted += '\'';
+    }
+  return quoted;
+}
 
 std::string describe(const io::ArmScene &scene)
 {
@@ -256,13 +272,12 @@ int converge(const Options &options)
      << "set terminal pngcairo size 900,650\nset output 'convergence.png'\n"
      << "set datafile separator ','\nset logscale xy\nset grid\nset key outside right\n"
      << "set xlabel 'degrees of freedom'\nset ylabel 'relative frequency error vs finest level'\n"
-     << "set title 'Mesh convergence: " << describe(scene) << "' noenhanced\n"
+     << "set title '" << gnuplot_single_quoted("Mesh convergence: " + describe(scene)) << "' noenhanced\n"
      << "plot for [m=1:" << n_modes << "] 'convergence.csv' using ($1==m && $8 > 0 ? $4 : NaN):8 "
      << "with linespoints title sprintf('mode %d', m)\n";
   write_text(dir + "/convergence.gp", gp.str());
-  bool plotted = false;
-  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0)
-    plotted = std::system(("cd '" + dir + "' && gnuplot convergence.gp 2>/dev/null").c_str()) == 0;
+  // gnuplot runs in the output folder from an argument vector: no shell sees the folder's name.
+  const bool plotted = base::run_program({"gnuplot", "convergence.gp"}, dir) == 0;
 
   io::JsonObject summary;
   summary.add("program", "flextrack " FLEXTRACK_VERSION)

@@ -2,7 +2,7 @@
 // (io/body_export.h). Default folder: the one that holds BODY.h5.
 #include <app/commands.h>
 #include <io/body_export.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <io/reduced_body_file.h>
 
 #include <filesystem>

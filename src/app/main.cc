@@ -6,7 +6,7 @@
 #include <app/commands.h>
 #include <geometry/section_frame.h>
 #include <io/body_export.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <reduction/modal_solver.h>
 
 #include <deal.II/base/exceptions.h>

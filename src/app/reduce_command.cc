@@ -9,10 +9,10 @@
 #include <geometry/section_frame.h>
 #include <io/body_export.h>
 #include <io/body_scene.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <io/reduced_body_file.h>
 #include <reduction/component_modes.h>
-#include <reduction/reduced_body.h>
+#include <reduction/reduced_body_builder.h>
 
 #include <deal.II/base/timer.h>
 

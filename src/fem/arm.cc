@@ -1,5 +1,5 @@
 #include <fem/arm.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <algorithm>
 #include <sstream>

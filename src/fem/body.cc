@@ -1,5 +1,6 @@
+#include <base/names.h>
 #include <fem/body.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <algorithm>
 #include <cctype>
@@ -120,8 +121,9 @@ std::vector<std::string> Body::parse_arm_list(ParameterHandler &prm)
   std::vector<std::string> names;
   for (const auto &name : words(text))
     {
-      if (!std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(c) || c == '_'; }))
-        throw InputError("Body/Arms", "arm name '" + name + "' may only contain letters, digits and '_'");
+      if (!base::is_valid_name(name))
+        throw InputError("Body/Arms", "arm name '" + base::printable_excerpt(name) + "' is not allowed: a name has " +
+                                        base::name_rule());
       if (std::find(names.begin(), names.end(), name) != names.end())
         throw InputError("Body/Arms", "arm name '" + name + "' is listed twice");
       names.push_back(name);
@@ -192,6 +194,9 @@ Body Body::parse_parameters(ParameterHandler &prm, const std::string &directory)
                           std::vector<InterfacePoint> &points) {
     for (const auto &[name, spec] : named_items(text, entry, "NAME: arm ARM at S | point X Y Z, within R"))
       {
+        if (!base::is_valid_name(name))
+          throw InputError(entry, kind + " name '" + base::printable_excerpt(name) + "' is not allowed: a name has " +
+                                    base::name_rule());
         if (body.interface_index(name) >= 0 ||
             std::any_of(body.output_points.begin(), body.output_points.end(), [&](const auto &o) { return o.name == name; }))
           throw InputError(entry, kind + " '" + name + "' is defined twice (names are shared by interfaces and output points)");

@@ -1,6 +1,7 @@
 #include <fem/body_model.h>
+#include <geometry/rotation.h>
 #include <fem/csr_matrix.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/lac/affine_constraints.h>
@@ -22,18 +23,8 @@ using namespace dealii;
 
 namespace
 {
-/// Coefficients of theta_b in (theta x r)_c, i.e. the matrix -[r x].
-Tensor<2, 3> cross_matrix_of_rotation(const Tensor<1, 3> &r)
-{
-  Tensor<2, 3> C; // (theta x r)_c = sum_b C[c][b] theta_b
-  C[0][1] = r[2];
-  C[0][2] = -r[1];
-  C[1][0] = -r[2];
-  C[1][2] = r[0];
-  C[2][0] = r[1];
-  C[2][1] = -r[0];
-  return C;
-}
+/// Coefficients of theta_b in (theta x r)_c, i.e. the matrix -[r x] = -r~.
+Tensor<2, 3> cross_matrix_of_rotation(const Tensor<1, 3> &r) { return -geometry::skew(r); }
 
 std::string point_text(const Point<3> &p)
 {

@@ -1,5 +1,5 @@
 #include <fem/cross_section.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <cmath>
 #include <sstream>

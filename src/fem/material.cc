@@ -1,5 +1,5 @@
 #include <fem/material.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <sstream>
 

@@ -1,6 +1,6 @@
 #include <fem/fe_serendipity.h>
 #include <fem/solid_mesh.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/grid/grid_generator.h>

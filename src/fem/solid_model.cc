@@ -1,6 +1,6 @@
 #include <fem/fe_serendipity.h>
 #include <fem/solid_model.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>

@@ -1,7 +1,7 @@
 #include <geometry/curve_library.h>
 #include <geometry/expression.h>
 #include <geometry/spline.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <cmath>
 #include <sstream>

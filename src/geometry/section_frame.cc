@@ -1,5 +1,5 @@
 #include <geometry/section_frame.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <sstream>
 

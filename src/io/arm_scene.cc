@@ -1,7 +1,7 @@
 #include <io/arm_scene.h>
 #include <io/body_export.h>
-#include <io/input_error.h>
-#include <io/parse_error.h>
+#include <base/input_error.h>
+#include <base/parse_error.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -96,7 +96,7 @@ ArmScene read_arm_scene(const std::string &file, ParameterHandler &prm)
     }
   catch (const dealii::ExceptionBase &e)
     {
-      throw InputError("", parse_error_text(e), file);
+      throw InputError("", base::parse_error_text(e), file);
     }
   const auto parent = std::filesystem::path(file).parent_path().string();
   return build_scene(prm, file, parent.empty() ? "." : parent);
@@ -110,7 +110,7 @@ ArmScene read_arm_scene_from_string(const std::string &text, ParameterHandler &p
     }
   catch (const dealii::ExceptionBase &e)
     {
-      throw InputError("", parse_error_text(e), "<string>");
+      throw InputError("", base::parse_error_text(e), "<string>");
     }
   return build_scene(prm, "<string>", directory);
 }

@@ -1,5 +1,5 @@
 #include <io/body_export.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <io/mbdyn_export.h>
 #include <io/vtu_export.h>
 

@@ -1,6 +1,6 @@
 #include <io/body_scene.h>
-#include <io/input_error.h>
-#include <io/parse_error.h>
+#include <base/input_error.h>
+#include <base/parse_error.h>
 
 #include <filesystem>
 #include <fstream>
@@ -41,7 +41,7 @@ void parse(ParameterHandler &prm, const std::string &text, const std::string &na
     }
   catch (const dealii::ExceptionBase &e)
     {
-      throw InputError("", parse_error_text(e), name);
+      throw InputError("", base::parse_error_text(e), name);
     }
 }
 

@@ -1,6 +1,7 @@
 #include <io/hdf5_file.h>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -145,59 +146,124 @@ std::vector<hsize_t> Hdf5File::shape(const std::string &path) const
   return dims;
 }
 
+namespace
+{
+/// The number of elements of a dataset or attribute space, or -1 if it is not a simple space.
+long long element_count(const hid_t space)
+{
+  const H5S_class_t kind = H5Sget_simple_extent_type(space);
+  if (kind == H5S_SCALAR) return 1;
+  if (kind != H5S_SIMPLE) return -1;
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  return n < 0 ? -1 : static_cast<long long>(n);
+}
+
+/// The largest dataset this reader allocates: 2^28 values (2 GiB of doubles). A reduced body of
+/// 1000 modes has a largest dataset (Q, n x n x 3 x 3) of 9e6 values.
+constexpr hsize_t max_dataset_values = hsize_t(1) << 28;
+
+/// Opens attribute @p name of @p object, checks that it holds exactly one value of class
+/// @p expected (a file may hold an array, or another type, under a known name).
+hid_t open_single_attribute(const hid_t file, const std::string &object, const std::string &name,
+                            const H5T_class_t expected, const char *expected_text)
+{
+  if (H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) <= 0)
+    throw std::runtime_error("attribute '" + name + "' of '" + object + "' is missing");
+  const hid_t a = H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+  if (a < 0) throw std::runtime_error("attribute '" + name + "' of '" + object + "' cannot be opened");
+  Handle space{H5Aget_space(a), H5Sclose};
+  Handle type{H5Aget_type(a), H5Tclose};
+  if (space.id < 0 || type.id < 0 || element_count(space.id) != 1 || H5Tget_class(type.id) != expected)
+    {
+      H5Aclose(a);
+      throw std::runtime_error("attribute '" + name + "' of '" + object + "' is not a single " + expected_text);
+    }
+  return a;
+}
+} // namespace
+
+std::vector<hsize_t> Hdf5File::checked_shape(const std::string &path, const H5T_class_t expected_class) const
+{
+  const auto dims = shape(path);
+  Handle set{H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose};
+  Handle type{H5Dget_type(set.id), H5Tclose};
+  if (type.id < 0 || H5Tget_class(type.id) != expected_class)
+    throw std::runtime_error("dataset '" + path + "' has the wrong type (expected " +
+                             (expected_class == H5T_FLOAT ? "floating-point numbers" : "integers") + ")");
+  hsize_t size = 1;
+  for (const auto s : dims)
+    {
+      if (s > 0 && size > max_dataset_values / s)
+        throw std::runtime_error("dataset '" + path + "' of shape " + shape_text(dims) + " is too large (at most " +
+                                 std::to_string(max_dataset_values) + " values)");
+      size *= s;
+    }
+  return dims;
+}
+
 void Hdf5File::read_raw(const std::string &path, const std::vector<hsize_t> &expected_shape, const hid_t memory_type,
                         void *data) const
 {
-  const auto dims = shape(path);
-  if (dims != expected_shape)
-    throw std::runtime_error("dataset '" + path + "' has shape " + shape_text(dims) + ", expected " +
-                             shape_text(expected_shape));
   Handle set{H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose};
   hsize_t size = 1;
-  for (const auto s : dims) size *= s;
+  for (const auto s : expected_shape) size *= s;
   if (size > 0 && H5Dread(set.id, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     throw std::runtime_error("cannot read dataset '" + path + "' (damaged file?)");
 }
 
+template <typename Number>
+std::vector<Number> Hdf5File::read_checked(const std::string &path, const std::vector<hsize_t> &expected_shape,
+                                           const H5T_class_t file_class, const hid_t memory_type) const
+{
+  // The shape and type are checked before anything is allocated: the expected shape may come
+  // from a count in the same (possibly hostile) file.
+  const auto dims = checked_shape(path, file_class);
+  if (dims != expected_shape)
+    throw std::runtime_error("dataset '" + path + "' has shape " + shape_text(dims) + ", expected " +
+                             shape_text(expected_shape));
+  hsize_t size = 1;
+  for (const auto s : dims) size *= s;
+  std::vector<Number> v(size);
+  read_raw(path, dims, memory_type, v.data());
+  return v;
+}
+
 std::vector<double> Hdf5File::read_doubles(const std::string &path, const std::vector<hsize_t> &expected_shape) const
 {
-  hsize_t size = 1;
-  for (const auto s : expected_shape) size *= s;
-  std::vector<double> v(size);
-  read_raw(path, expected_shape, H5T_NATIVE_DOUBLE, v.data());
+  auto v = read_checked<double>(path, expected_shape, H5T_FLOAT, H5T_NATIVE_DOUBLE);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw std::runtime_error("dataset '" + path + "' holds a non-finite value (" + std::to_string(v[i]) +
+                               ") at position " + std::to_string(i));
   return v;
 }
 
 std::vector<unsigned int> Hdf5File::read_unsigned(const std::string &path, const std::vector<hsize_t> &expected_shape) const
 {
-  hsize_t size = 1;
-  for (const auto s : expected_shape) size *= s;
-  std::vector<unsigned int> v(size);
-  read_raw(path, expected_shape, H5T_NATIVE_UINT, v.data());
-  return v;
+  return read_checked<unsigned int>(path, expected_shape, H5T_INTEGER, H5T_NATIVE_UINT);
 }
 
 std::string Hdf5File::string_attribute(const std::string &object, const std::string &name) const
 {
-  if (H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) <= 0)
-    throw std::runtime_error("attribute '" + name + "' of '" + object + "' is missing");
-  Handle a{H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  Handle a{open_single_attribute(file, object, name, H5T_STRING, "fixed-length string"), H5Aclose};
   Handle type{H5Aget_type(a.id), H5Tclose};
-  if (H5Tget_class(type.id) != H5T_STRING || H5Tis_variable_str(type.id) > 0)
-    throw std::runtime_error("attribute '" + name + "' of '" + object + "' is not a fixed-length string");
-  std::string value(H5Tget_size(type.id), '\0');
-  if (H5Aread(a.id, type.id, value.data()) < 0) throw std::runtime_error("cannot read attribute '" + name + "'");
+  const size_t size = H5Tget_size(type.id);
+  if (H5Tis_variable_str(type.id) != 0 || size == 0 || size > max_string_length)
+    throw std::runtime_error("attribute '" + name + "' of '" + object + "' is not a fixed-length string of at most " +
+                             std::to_string(max_string_length) + " characters");
+  // Read through a memory type of exactly this size: one element, so the buffer fits.
+  Handle memory{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(memory.id, size);
+  H5Tset_strpad(memory.id, H5T_STR_NULLPAD);
+  std::string value(size, '\0');
+  if (H5Aread(a.id, memory.id, value.data()) < 0) throw std::runtime_error("cannot read attribute '" + name + "'");
   value.erase(value.find_last_not_of('\0') + 1);
   return value;
 }
 
 long long Hdf5File::integer_attribute(const std::string &object, const std::string &name) const
 {
-  if (H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) <= 0)
-    throw std::runtime_error("attribute '" + name + "' of '" + object + "' is missing");
-  Handle a{H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
-  Handle type{H5Aget_type(a.id), H5Tclose};
-  if (H5Tget_class(type.id) != H5T_INTEGER) throw std::runtime_error("attribute '" + name + "' is not an integer");
+  Handle a{open_single_attribute(file, object, name, H5T_INTEGER, "integer"), H5Aclose};
   long long value = 0;
   if (H5Aread(a.id, H5T_NATIVE_LLONG, &value) < 0) throw std::runtime_error("cannot read attribute '" + name + "'");
   return value;

@@ -33,15 +33,25 @@ public:
   /// Names of the members of a group.
   std::vector<std::string> members(const std::string &group) const;
   std::vector<hsize_t> shape(const std::string &path) const;
-  /// The dataset at @p path, which must have exactly @p expected_shape.
+  /// The longest string attribute read [characters]; longer ones are refused.
+  static constexpr std::size_t max_string_length = 4096;
+  /// The dataset at @p path, which must have exactly @p expected_shape, the right type class,
+  /// and (doubles) only finite values. Nothing is allocated before the shape is checked.
   std::vector<double> read_doubles(const std::string &path, const std::vector<hsize_t> &expected_shape) const;
   std::vector<unsigned int> read_unsigned(const std::string &path, const std::vector<hsize_t> &expected_shape) const;
+  /// Attributes must hold exactly one value of the right class (a scalar or a 1-element array).
   std::string string_attribute(const std::string &object, const std::string &name) const;
   long long integer_attribute(const std::string &object, const std::string &name) const;
 
 private:
   void write_raw(const std::string &path, const std::vector<hsize_t> &shape, hid_t file_type, hid_t memory_type,
                  const void *data);
+  /// The shape of the dataset at @p path, checked to be of type class @p expected_class and of
+  /// at most max_dataset_values values.
+  std::vector<hsize_t> checked_shape(const std::string &path, H5T_class_t expected_class) const;
+  template <typename Number>
+  std::vector<Number> read_checked(const std::string &path, const std::vector<hsize_t> &expected_shape,
+                                   H5T_class_t file_class, hid_t memory_type) const;
   void read_raw(const std::string &path, const std::vector<hsize_t> &expected_shape, hid_t memory_type, void *data) const;
   std::string file_name;
   hid_t file = -1;

@@ -1,4 +1,5 @@
-#include <io/input_error.h>
+#include <base/input_error.h>
+#include <base/names.h>
 #include <io/mbdyn_export.h>
 
 #include <deal.II/lac/lapack_full_matrix.h>
@@ -39,10 +40,12 @@ private:
 
 std::string mbdyn_node_label(const std::string &name)
 {
-  std::string label = name;
+  // Names read from a file or a scene already follow base::name_rule(); anything else (a body
+  // built in code) is mapped into that set, so a label can never end a quoted MBDyn string.
+  std::string label = name.substr(0, base::max_name_length);
   for (auto &c : label)
-    if (c == ' ' || c == '\t' || c == ',' || c == ';' || c == '"') c = '_';
-  return label;
+    if (!base::is_valid_name(std::string(1, c))) c = '_';
+  return label.empty() ? "_" : label;
 }
 
 std::string mbdyn_fem_text(const reduction::ReducedBody &body)
@@ -71,8 +74,8 @@ std::string mbdyn_fem_text(const reduction::ReducedBody &body)
   NumberWriter num(out);
   // The one comment line that follows the RG 1 marker carries the provenance.
   out << "** RECORD GROUP 1, HEADER\n";
-  out << "**   REVISION, NODES, MODES, 0, 0, 0 - FlexTrack " FLEXTRACK_VERSION ", " << body.method
-      << ", SI units, input hash " << body.input_hash << "\n";
+  out << "**   REVISION, NODES, MODES, 0, 0, 0 - FlexTrack " FLEXTRACK_VERSION ", " << base::printable_excerpt(body.method, 80)
+      << ", SI units, input hash " << base::printable_excerpt(body.input_hash, 80) << "\n";
   out << "REV0 " << N << " " << n << " 0 0 0\n";
   out << "** RECORD GROUP 2, FINITE ELEMENT NODE LIST\n";
   for (unsigned int i = 0; i < N; ++i) out << (i ? " " : "") << mbdyn_node_label(exposed[i]->name);
@@ -150,8 +153,9 @@ std::string mbdyn_fem_text(const reduction::ReducedBody &body)
 std::string mbdyn_elm_text(const reduction::ReducedBody &body, const std::string &fem_file_name)
 {
   std::ostringstream out;
-  out << "# MBDyn include file written by FlexTrack " FLEXTRACK_VERSION " for the reduced body of " << body.source
-      << "\n# (" << body.n_modes() << " modes, " << body.method << ", SI units). Include it in the elements block\n"
+  out << "# MBDyn include file written by FlexTrack " FLEXTRACK_VERSION " for the reduced body of "
+      << base::printable_excerpt(body.source, 200) << "\n# (" << body.n_modes() << " modes, "
+      << base::printable_excerpt(body.method, 80) << ", SI units). Include it in the elements block\n"
       << "# after setting the labels below: the modal node (a 'structural: ..., modal, ...' node at the\n"
       << "# body frame origin, axes as the body frame) and one multibody node per interface, placed at\n"
       << "# the interface with initial velocities consistent with the modal node's rigid motion.\n";

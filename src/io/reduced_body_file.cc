@@ -1,5 +1,6 @@
+#include <base/names.h>
 #include <io/hdf5_file.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <io/reduced_body_file.h>
 
 #include <filesystem>
@@ -133,9 +134,14 @@ void write_file(const ReducedBody &b, const std::string &name)
 std::vector<std::string> in_index_order(const Hdf5File &f, const std::string &group)
 {
   const auto names = f.members(group);
+  if (names.size() > 100000) throw std::runtime_error("group '" + group + "' has too many members");
   std::vector<std::string> ordered(names.size());
   for (const auto &name : names)
     {
+      // Names go into other tools' inputs (MBDyn, VTU): only the documented character set.
+      if (!base::is_valid_name(name))
+        throw std::runtime_error("group '" + group + "' has a member named '" + base::printable_excerpt(name) +
+                                 "'; a name has " + base::name_rule());
       const long long i = f.integer_attribute(group + "/" + name, "index");
       if (i < 0 || i >= static_cast<long long>(names.size()) || !ordered[i].empty())
         throw std::runtime_error("group '" + group + "/" + name + "' has an invalid 'index'");
@@ -167,14 +173,27 @@ ReducedBody read_file(const std::string &name)
   b.input_hash = f.string_attribute("/", "input_hash");
   b.method = f.string_attribute("/", "method");
   b.source = f.string_attribute("/", "source");
+  // Counts are checked against the datasets before anything is allocated from them.
   const long long n_modes = f.integer_attribute("/", "n_modes");
-  if (n_modes < 0 || n_modes > 100000) throw std::runtime_error("attribute 'n_modes' = " + std::to_string(n_modes) + " is invalid");
+  const auto stiffness_shape = f.shape("/reduced/stiffness");
+  if (stiffness_shape.size() != 2 || static_cast<long long>(stiffness_shape[0]) != n_modes ||
+      stiffness_shape[1] != stiffness_shape[0])
+    throw std::runtime_error("attribute 'n_modes' = " + std::to_string(n_modes) +
+                             " does not match the shape of '/reduced/stiffness'");
   const hsize_t n = n_modes;
-  b.n_full_dofs = f.integer_attribute("/", "n_full_dofs");
-  b.n_body_dofs = f.integer_attribute("/", "n_body_dofs");
-  b.n_normal = f.integer_attribute("/", "n_normal");
-  b.n_interface = f.integer_attribute("/", "n_interface");
-  b.n_track = f.integer_attribute("/", "n_track");
+  auto count = [&](const char *name, const long long limit) {
+    const long long v = f.integer_attribute("/", name);
+    if (v < 0 || v > limit)
+      throw std::runtime_error("attribute '" + std::string(name) + "' = " + std::to_string(v) + " is outside 0 ... " +
+                               std::to_string(limit));
+    return static_cast<unsigned int>(v);
+  };
+  constexpr long long max_dofs = 2000000000;
+  b.n_full_dofs = count("n_full_dofs", max_dofs);
+  b.n_body_dofs = count("n_body_dofs", max_dofs);
+  b.n_normal = count("n_normal", n_modes);
+  b.n_interface = count("n_interface", n_modes);
+  b.n_track = count("n_track", n_modes);
 
   b.stiffness = unflatten(f.read_doubles("/reduced/stiffness", {n, n}), n, n);
   b.mass = unflatten(f.read_doubles("/reduced/mass", {n, n}), n, n);

@@ -1,3 +1,4 @@
+#include <base/names.h>
 #include <io/vtu_export.h>
 
 #include <cstdio>
@@ -14,6 +15,13 @@ std::string number(const double v)
   std::snprintf(text, sizeof(text), "%.17g", v);
   return text;
 }
+/// @p text inside an XML comment: printable, short, and without "--" (which ends a comment).
+std::string xml_comment_text(const std::string &text)
+{
+  std::string t = base::printable_excerpt(text, 200);
+  for (std::size_t i = t.find("--"); i != std::string::npos; i = t.find("--")) t[i + 1] = '_';
+  return t;
+}
 } // namespace
 
 std::string mode_shapes_vtu_text(const reduction::ReducedBody &body)
@@ -21,7 +29,7 @@ std::string mode_shapes_vtu_text(const reduction::ReducedBody &body)
   const std::size_t P = body.points.size(), n = body.n_modes();
   std::ostringstream out;
   out << "<?xml version=\"1.0\"?>\n"
-      << "<!-- FlexTrack " FLEXTRACK_VERSION ": mode shapes of the reduced body of " << body.source << " -->\n"
+      << "<!-- FlexTrack " FLEXTRACK_VERSION ": mode shapes of the reduced body of " << xml_comment_text(body.source) << " -->\n"
       << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       << "<UnstructuredGrid>\n<FieldData>\n"
       << "<DataArray type=\"Float64\" Name=\"frequencies_Hz\" NumberOfTuples=\"" << n << "\" format=\"ascii\">\n";

@@ -1,4 +1,4 @@
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <reduction/component_modes.h>
 #include <reduction/sparse_factorization.h>
 #include <fem/csr_matrix.h>

@@ -22,8 +22,7 @@
 // with S = s + I3 eta, Ph_k = int rho phi_k u^T = P_k + sum_j eta_j Q_kj, I5_jk = int rho phi_j x phi_k.
 #pragma once
 
-#include <fem/body_model.h>
-
+#include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
@@ -47,13 +46,6 @@ struct InertiaInvariants
   /// I5_jk = int rho phi_j x phi_k, from Q.
   dealii::Tensor<1, 3> I5(unsigned int j, unsigned int k) const;
 };
-
-/// The invariants of @p modes (body dofs) of @p body, about the global origin and axes (the body
-/// frame of the undeformed body).
-InertiaInvariants compute_inertia_invariants(const fem::BodyModel &body, const std::vector<dealii::Vector<double>> &modes);
-/// The same from modes already expanded to the full dofs (BodyModel::expand).
-InertiaInvariants compute_inertia_invariants_of_expanded(const fem::BodyModel &body,
-                                                         const std::vector<dealii::Vector<double>> &full_modes);
 
 class FloatingFrameInertia
 {

@@ -1,4 +1,4 @@
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <reduction/modal_solver.h>
 #include <reduction/sparse_factorization.h>
 

@@ -4,8 +4,6 @@
 // Written to and read from HDF5 by io/reduced_body_file.h (layout in doc/reduced_body_file.md).
 #pragma once
 
-#include <fem/body_model.h>
-#include <reduction/component_modes.h>
 #include <reduction/inertia_invariants.h>
 #include <reduction/mode_field.h>
 
@@ -61,6 +59,4 @@ dealii::FullMatrix<double> stiffness_with_inertial_loads(const ReducedBody &body
                                                          const dealii::Tensor<1, 3> &acceleration,
                                                          const dealii::Tensor<1, 3> &angular_acceleration);
 
-/// Collect the reduced body of @p model reduced to @p basis.
-ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &basis, const std::string &method);
 } // namespace flextrack::reduction

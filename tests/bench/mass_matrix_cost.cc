@@ -8,7 +8,7 @@
 #include <fem/body_model.h>
 #include <io/body_scene.h>
 #include <reduction/component_modes.h>
-#include <reduction/inertia_invariants.h>
+#include <reduction/inertia_invariants_builder.h>
 
 #include <mpi.h>
 

@@ -5,8 +5,8 @@
 #include <fem/body_model.h>
 #include <io/body_scene.h>
 #include <reduction/component_modes.h>
-#include <reduction/inertia_invariants.h>
-#include <reduction/reduced_body.h>
+#include <reduction/inertia_invariants_builder.h>
+#include <reduction/reduced_body_builder.h>
 #include <reduction/rigid_body_inertia.h>
 #include <reduction/sparse_factorization.h>
 

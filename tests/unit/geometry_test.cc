@@ -4,7 +4,7 @@
 #include <geometry/expression.h>
 #include <geometry/section_frame.h>
 #include <geometry/spline.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 
 #include <gtest/gtest.h>
 

@@ -6,11 +6,11 @@
 // fields and its consistent mass matrix) and must agree to 1e-12 relative.
 #include <fem/body_model.h>
 #include <io/body_scene.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <io/mbdyn_export.h>
 #include <io/reduced_body_file.h>
 #include <reduction/component_modes.h>
-#include <reduction/reduced_body.h>
+#include <reduction/reduced_body_builder.h>
 
 #include <gtest/gtest.h>
 

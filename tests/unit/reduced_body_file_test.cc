@@ -5,7 +5,7 @@
 #include <io/reduced_body_file.h>
 #include <reduction/component_modes.h>
 #include <reduction/mode_field.h>
-#include <reduction/reduced_body.h>
+#include <reduction/reduced_body_builder.h>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 #include "solid_mesh_writer.h"
 
 #include <fem/solid_model.h>
-#include <io/input_error.h>
+#include <base/input_error.h>
 #include <reduction/linear_solver.h>
 #include <reduction/modal_solver.h>
 

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-namespace flextrack::io
+namespace flextrack::base
 {
 inline std::string parse_error_text(const dealii::ExceptionBase &e)
 {
@@ -21,4 +21,4 @@ inline std::string parse_error_text(const dealii::ExceptionBase &e)
     }
   return text;
 }
-} // namespace flextrack::io
+} // namespace flextrack::base
