@@ -1,5 +1,10 @@
-// The commands of the flextrack program. Each returns the process exit code.
+// The commands of the flextrack program, one function each; main.cc holds the table that maps
+// a command name to its function. Each returns the process exit code.
 #pragma once
+
+#include <io/scene_file.h>
+
+#include <deal.II/base/timer.h>
 
 #include <string>
 
@@ -10,20 +15,24 @@ struct Options
   std::string file;
   std::string output_directory; ///< from -o; empty = from the file, else output/<stem>
   unsigned int refinements = 3; ///< converge: number of refinements K
-  std::string format;           ///< export: mbdyn or vtu
+  std::string format;           ///< export: a name of io::export_formats()
 };
 
-/// Modal analysis of one arm: frequencies.csv, summary.json, mode shapes (VTU/PVD).
-int modes(const Options &options);
+/// Natural modes of one arm or solid (a body scene is reduced instead): frequencies.csv,
+/// summary.json, mode shapes (VTU/PVD).
+int modes_command(const Options &options, const io::SceneFile &file);
 /// The same analysis on K successively halved meshes: convergence.csv, convergence.png.
-int converge(const Options &options);
+int converge_command(const Options &options, const io::SceneFile &file);
 /// Reduce the flexible body of a "Model = body" scene: reduced_body.h5 (cached), frequencies.csv,
-/// summary.json.
-int reduce(const Options &options);
-/// Export a reduced body file for another tool (--format mbdyn | vtu).
-int export_body(const Options &options);
+/// summary.json, and the exports of Output/Export formats.
+int reduce_command(const Options &options, const io::SceneFile &file);
+/// Export a reduced body file for another tool (--format).
+int export_command(const Options &options);
 /// Print what a reduced body file holds (checks it thoroughly).
-int inspect(const Options &options);
+int inspect_command(const Options &options);
 /// Every parameter with its default, allowed values, unit and documentation.
-int print_parameters();
+int print_parameters_command();
+
+/// "  wall time [s]:  stage t; ...  total T" and the peak memory, on stdout.
+void print_timings(const dealii::TimerOutput &timer, const dealii::Timer &wall);
 } // namespace flextrack::app

@@ -1,10 +1,11 @@
 // flextrack: command-line entry point.
 //
-// Parses the command line, starts MPI (Trilinos needs it), runs one command, and turns every
+// Parses the command line, starts MPI where the command needs it (Trilinos' distributed
+// matrices), runs one command, and turns every
 // error a user can cause into one clear line on stderr and a non-zero exit status:
 //   2 = bad input (file, entry, allowed values), 3 = solver failure, 4 = internal error.
 #include <app/commands.h>
-#include <geometry/section_frame.h>
+#include <base/names.h>
 #include <io/body_export.h>
 #include <base/input_error.h>
 #include <reduction/modal_solver.h>
@@ -66,10 +67,100 @@ int usage_error(const std::string &message)
   return 1;
 }
 
-int dispatch(const std::vector<std::string> &args)
+/// MPI is started only by the commands that use Trilinos' distributed matrices (every other
+/// command starts faster without it, and cannot fail in OpenMPI's singleton start-up).
+void start_mpi(int *argc, char ***argv)
 {
-  using namespace flextrack::app;
-  if (args.empty()) return modes({default_scene(), "", 0});
+  // A singleton MPI process starts much faster when it does not look for a runtime daemon.
+  if (!std::getenv("OMPI_COMM_WORLD_SIZE")) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  MPI_Init(argc, argv);
+  // Under mpirun every process computes; only the first one talks (errors excepted).
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank != 0) std::cout.rdbuf(nullptr);
+}
+
+using namespace flextrack::app;
+
+/// The commands, one row each: name, whether it needs MPI, whether it reads a scene, and the
+/// function (scene commands get the scene file read once; the others get the options only).
+struct Command
+{
+  const char *name;
+  bool needs_mpi;
+  int (*on_scene)(const Options &, const flextrack::io::SceneFile &);
+  int (*on_options)(const Options &);
+};
+
+int scene_dispatch(const Options &options, const flextrack::io::SceneFile &file)
+{
+  // 'modes' on a body scene reduces the body: the scene decides, read once.
+  if (file.model == "body") return reduce_command(options, file);
+  return modes_command(options, file);
+}
+
+const std::vector<Command> &commands()
+{
+  static const std::vector<Command> table{{"run", true, scene_dispatch, nullptr},
+                                          {"modes", true, scene_dispatch, nullptr},
+                                          {"converge", true, converge_command, nullptr},
+                                          {"reduce", true, reduce_command, nullptr},
+                                          {"inspect", false, nullptr, inspect_command},
+                                          {"export", false, nullptr, export_command}};
+  return table;
+}
+
+/// Options after the command name; returns a usage message, empty if they are fine.
+std::string parse_options(const std::string &command, const std::vector<std::string> &args, Options &options)
+{
+  bool have_refinements = false;
+  for (std::size_t i = 1; i < args.size(); ++i)
+    {
+      if (args[i] == "-o" || args[i] == "--output")
+        {
+          if (++i == args.size()) return "-o needs a folder name";
+          options.output_directory = args[i];
+        }
+      else if (args[i] == "--refinements" && command == "converge")
+        {
+          if (++i == args.size()) return "--refinements needs a number";
+          try
+            {
+              std::size_t used = 0;
+              const int k = std::stoi(args[i], &used);
+              if (used != args[i].size() || k < 1 || k > 12) throw std::out_of_range("K");
+              options.refinements = k;
+              have_refinements = true;
+            }
+          catch (...)
+            {
+              return "--refinements must be an integer from 1 to 12, not '" +
+                     flextrack::base::printable_excerpt(args[i]) + "'";
+            }
+        }
+      else if (args[i] == "--format" && command == "export")
+        {
+          if (++i == args.size()) return "--format needs a format name: " + flextrack::io::export_format_list();
+          options.format = args[i];
+        }
+      else if (!args[i].empty() && args[i][0] == '-')
+        return "unknown option '" + flextrack::base::printable_excerpt(args[i]) + "' for " + command;
+      else if (options.file.empty())
+        options.file = args[i];
+      else
+        return "more than one input file given ('" + options.file + "', '" + args[i] + "')";
+    }
+  if (options.file.empty())
+    return command + (command == "inspect" || command == "export" ? " needs a reduced body file" : " needs a parameter file");
+  if (command == "converge" && !have_refinements) return "converge needs --refinements K";
+  if (command == "export" && options.format.empty())
+    return "export needs --format FORMAT; allowed: " + flextrack::io::export_format_list();
+  return "";
+}
+
+int dispatch(std::vector<std::string> args, int *argc, char ***argv)
+{
+  if (args.empty()) args = {"modes", default_scene()};
   const std::string &command = args[0];
   if (command == "--help" || command == "-h" || command == "help")
     {
@@ -81,81 +172,26 @@ int dispatch(const std::vector<std::string> &args)
       std::cout << "flextrack " FLEXTRACK_VERSION << std::endl;
       return 0;
     }
-  if (command == "print-parameters") return print_parameters();
-  if (command != "run" && command != "modes" && command != "converge" && command != "reduce" && command != "inspect" &&
-      command != "export")
-    return usage_error("unknown command '" + command +
+  if (command == "print-parameters") return print_parameters_command();
+  const auto &table = commands();
+  const auto row = std::find_if(table.begin(), table.end(), [&](const Command &c) { return command == c.name; });
+  if (row == table.end())
+    return usage_error("unknown command '" + flextrack::base::printable_excerpt(command) +
                        "'; allowed: run, modes, converge, reduce, inspect, export, print-parameters");
-
   Options options;
-  bool have_refinements = false;
-  for (std::size_t i = 1; i < args.size(); ++i)
-    {
-      if (args[i] == "-o" || args[i] == "--output")
-        {
-          if (++i == args.size()) return usage_error("-o needs a folder name");
-          options.output_directory = args[i];
-        }
-      else if (args[i] == "--refinements" && command == "converge")
-        {
-          if (++i == args.size()) return usage_error("--refinements needs a number");
-          try
-            {
-              const int k = std::stoi(args[i]);
-              if (k < 1 || k > 12) throw std::out_of_range("K");
-              options.refinements = k;
-              have_refinements = true;
-            }
-          catch (...)
-            {
-              return usage_error("--refinements must be an integer from 1 to 12, not '" + args[i] + "'");
-            }
-        }
-      else if (args[i] == "--format" && command == "export")
-        {
-          const auto &known = flextrack::io::export_formats();
-          if (++i == args.size()) return usage_error("--format needs a format name: " + flextrack::io::export_format_list());
-          options.format = args[i];
-          if (std::find(known.begin(), known.end(), options.format) == known.end())
-            return usage_error("unknown export format '" + options.format + "'; allowed: " + flextrack::io::export_format_list());
-        }
-      else if (!args[i].empty() && args[i][0] == '-')
-        return usage_error("unknown option '" + args[i] + "' for " + command);
-      else if (options.file.empty())
-        options.file = args[i];
-      else
-        return usage_error("more than one parameter file given ('" + options.file + "', '" + args[i] + "')");
-    }
-  if (options.file.empty()) return usage_error(command +  (command == "inspect" || command == "export" ? " needs a reduced body file" : " needs a parameter file"));
-  if (command == "reduce") return reduce(options);
-  if (command == "inspect") return inspect(options);
-  if (command == "export")
-    {
-      if (options.format.empty()) return usage_error("export needs --format FORMAT; allowed: " + flextrack::io::export_format_list());
-      return export_body(options);
-    }
-  if (command == "converge")
-    {
-      if (!have_refinements) return usage_error("converge needs --refinements K");
-      return converge(options);
-    }
-  return modes(options);
+  if (const auto problem = parse_options(command, args, options); !problem.empty()) return usage_error(problem);
+  if (row->needs_mpi) start_mpi(argc, argv);
+  if (row->on_options) return row->on_options(options);
+  return row->on_scene(options, flextrack::io::SceneFile::read(options.file));
 }
 } // namespace
 
 int main(int argc, char **argv)
 {
-  // A singleton MPI process starts much faster when it does not look for a runtime daemon.
-  if (!std::getenv("OMPI_COMM_WORLD_SIZE")) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
-  MPI_Init(&argc, &argv);
-  // Under mpirun every process computes; only the first one talks (errors excepted).
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank != 0) std::cout.rdbuf(nullptr);
   int status = 0;
   try
     {
-      status = dispatch(std::vector<std::string>(argv + 1, argv + argc));
+      status = dispatch(std::vector<std::string>(argv + 1, argv + argc), &argc, &argv);
     }
   catch (const flextrack::InputError &e)
     {
@@ -179,6 +215,9 @@ int main(int argc, char **argv)
       std::cerr << "flextrack: internal error: " << e.what() << std::endl;
       status = 4;
     }
-  MPI_Finalize();
+  int started = 0, finished = 0;
+  MPI_Initialized(&started);
+  MPI_Finalized(&finished);
+  if (started && !finished) MPI_Finalize();
   return status;
 }

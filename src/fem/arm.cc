@@ -1,4 +1,5 @@
 #include <fem/arm.h>
+#include <base/text.h>
 #include <base/input_error.h>
 
 #include <algorithm>
@@ -50,6 +51,7 @@ void Arm::declare_parameters(ParameterHandler &prm, const std::string &section)
 Arm Arm::parse_parameters(ParameterHandler &prm, const std::string &directory, const std::string &section)
 {
   Arm arm;
+  arm.section_name = section;
   // An InputError ends the run, so subsections need not be left on the way out.
   prm.enter_subsection(section);
   {
@@ -65,18 +67,10 @@ Arm Arm::parse_parameters(ParameterHandler &prm, const std::string &directory, c
       const double L = arm.curve->length();
       arm.supports.push_back({0.0, parse_support_kind(prm.get("Start"), section + "/Supports/Start")});
       arm.supports.push_back({L, parse_support_kind(prm.get("End"), section + "/Supports/End")});
-      std::istringstream list(prm.get("Intermediate"));
-      std::string item;
       const std::string entry = section + "/Supports/Intermediate";
-      while (std::getline(list, item, ';'))
+      for (const auto &[where, kind] : base::named_items(prm.get("Intermediate"), entry, "arc length: kind"))
         {
-          if (item.find_first_not_of(" \t") == std::string::npos) continue;
-          const auto colon = item.find(':');
-          if (colon == std::string::npos)
-            throw InputError(entry, "'" + item + "' is not of the form 'arc length: kind'");
-          double s = 0;
-          try { s = std::stod(item.substr(0, colon)); }
-          catch (...) { throw InputError(entry, "'" + item.substr(0, colon) + "' is not an arc length [m]"); }
+          const double s = base::parse_number(where, entry, "an arc length [m]");
           if (s < 0 || s > L * (1 + 1e-12))
             {
               std::ostringstream m;
@@ -84,7 +78,7 @@ Arm Arm::parse_parameters(ParameterHandler &prm, const std::string &directory, c
                 << " m); allowed: 0 <= s <= L";
               throw InputError(entry, m.str());
             }
-          arm.supports.push_back({std::min(s, L), parse_support_kind(item.substr(colon + 1), entry)});
+          arm.supports.push_back({std::min(s, L), parse_support_kind(kind, entry)});
         }
       prm.leave_subsection();
 

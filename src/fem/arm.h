@@ -33,6 +33,7 @@ struct Arm
   std::vector<Support> supports;
   unsigned int n_elements = 16; ///< on the coarsest mesh
   unsigned int degree = 2;      ///< polynomial degree of the beam element, 1..3
+  std::string section_name = "Arm"; ///< its subsection ("Arm", or "Arm NAME" in a body), for messages
 
   /// Declares "subsection @p section" (a body's arms are "Arm NAME").
   static void declare_parameters(dealii::ParameterHandler &prm, const std::string &section = "Arm");

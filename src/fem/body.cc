@@ -1,4 +1,5 @@
 #include <base/names.h>
+#include <base/text.h>
 #include <fem/body.h>
 #include <base/input_error.h>
 
@@ -13,52 +14,12 @@ using dealii::ParameterHandler;
 
 namespace
 {
-std::string trim(const std::string &t)
-{
-  const auto a = t.find_first_not_of(" \t");
-  if (a == std::string::npos) return "";
-  return t.substr(a, t.find_last_not_of(" \t") + 1 - a);
-}
-
-/// "a: b; c: d" -> {(a, b), (c, d)}; every item needs its colon.
-std::vector<std::pair<std::string, std::string>> named_items(const std::string &text, const std::string &entry,
-                                                             const std::string &form)
-{
-  std::vector<std::pair<std::string, std::string>> items;
-  std::istringstream list(text);
-  std::string item;
-  while (std::getline(list, item, ';'))
-    {
-      if (trim(item).empty()) continue;
-      const auto colon = item.find(':');
-      if (colon == std::string::npos) throw InputError(entry, "'" + trim(item) + "' is not of the form '" + form + "'");
-      items.emplace_back(trim(item.substr(0, colon)), trim(item.substr(colon + 1)));
-    }
-  return items;
-}
-
-/// Words of a specification; commas count as blanks.
-std::vector<std::string> words(std::string text)
-{
-  std::replace(text.begin(), text.end(), ',', ' ');
-  std::istringstream in(text);
-  std::vector<std::string> w;
-  for (std::string s; in >> s;) w.push_back(s);
-  return w;
-}
+using base::named_items;
+using base::words;
 
 double number(const std::string &word, const std::string &entry, const std::string &what)
 {
-  try
-    {
-      size_t used = 0;
-      const double v = std::stod(word, &used);
-      if (used == word.size()) return v;
-    }
-  catch (...)
-    {
-    }
-  throw InputError(entry, "'" + word + "' is not a number (" + what + ")");
+  return base::parse_number(word, entry, what);
 }
 
 /// "within R" or "set NAME", starting at words[i].
@@ -118,17 +79,7 @@ std::vector<std::string> Body::parse_arm_list(ParameterHandler &prm)
   prm.enter_subsection("Body");
   const std::string text = prm.get("Arms");
   prm.leave_subsection();
-  std::vector<std::string> names;
-  for (const auto &name : words(text))
-    {
-      if (!base::is_valid_name(name))
-        throw InputError("Body/Arms", "arm name '" + base::printable_excerpt(name) + "' is not allowed: a name has " +
-                                        base::name_rule());
-      if (std::find(names.begin(), names.end(), name) != names.end())
-        throw InputError("Body/Arms", "arm name '" + name + "' is listed twice");
-      names.push_back(name);
-    }
-  return names;
+  return base::parse_name_list(text, "Body/Arms", "arm name");
 }
 
 void Body::declare_parameters(ParameterHandler &prm, const std::vector<std::string> &arm_names)

@@ -1,3 +1,4 @@
+#include <base/input_error.h>
 #include <fem/curved_beam_model.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -41,12 +42,17 @@ std::array<double, 6> strains(const SectionAxes &a, const unsigned int component
 } // namespace
 
 CurvedBeamModel::CurvedBeamModel(const Arm &arm, const unsigned int refinement, const bool constrain_matrices)
-  : description(arm), constrained_assembly(constrain_matrices), mesh(arm, refinement), fe(FE_Q<1, 3>(arm.degree), 6),
+try : description(arm), constrained_assembly(constrain_matrices), mesh(arm, refinement), fe(FE_Q<1, 3>(arm.degree), 6),
     map(std::make_unique<MappingQ<1, 3>>(std::max(arm.degree, 3u))), dofs(mesh.triangulation())
 {
   setup_dofs();
   apply_supports();
   assemble();
+}
+catch (const geometry::FrameError &e)
+{
+  // The section frame is evaluated along the whole arm only here: name the arm's entry.
+  throw InputError(arm.section_name + "/Section frame/Kind", e.what());
 }
 
 void CurvedBeamModel::setup_dofs() { dofs.distribute_dofs(fe); }

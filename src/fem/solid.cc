@@ -1,4 +1,7 @@
 #include <fem/solid.h>
+#include <base/text.h>
+
+#include <cmath>
 #include <base/input_error.h>
 
 #include <sstream>
@@ -68,18 +71,22 @@ Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &director
   else
     {
       prm.enter_subsection("Box");
-      std::array<double, 3> size{};
+      const std::array<double, 3> size = base::parse_vector3(prm.get("Size"), "Solid/Box/Size", "m");
+      const auto cell_counts = base::parse_vector3(prm.get("Cells"), "Solid/Box/Cells", "-");
       std::array<unsigned int, 3> cells{};
-      std::istringstream a(prm.get("Size")), b(prm.get("Cells"));
-      std::string item;
+      // A bound on the count keeps a typo (2147483647) from exhausting memory: 1e6 hex20 cells
+      // are about 1.3e7 degrees of freedom, beyond what a direct solver handles here.
+      constexpr double max_cells = 1e6;
       for (int d = 0; d < 3; ++d)
         {
-          std::getline(a, item, ',');
-          size[d] = std::stod(item);
-          std::getline(b, item, ',');
-          cells[d] = std::stoul(item);
+          if (!(cell_counts[d] >= 1 && cell_counts[d] <= max_cells && cell_counts[d] == std::floor(cell_counts[d])))
+            throw InputError("Solid/Box/Cells", "every count must be a whole number from 1 to 1000000");
+          cells[d] = static_cast<unsigned int>(cell_counts[d]);
           if (!(size[d] > 0)) throw InputError("Solid/Box/Size", "every edge length must be > 0 m");
         }
+      if (cell_counts[0] * cell_counts[1] * cell_counts[2] > max_cells)
+        throw InputError("Solid/Box/Cells", "more than 1000000 cells in all (" +
+                                              std::to_string(cell_counts[0] * cell_counts[1] * cell_counts[2]) + ")");
       prm.leave_subsection();
       s.mesh = generate_box(dealii::Point<3>(size[0], size[1], size[2]), cells);
     }
@@ -88,29 +95,19 @@ Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &director
   const bool reduced = prm.get("Integration") == "reduced";
   s.gauss_points = (s.element == SolidElement::hex8 ? 2 : 3) - (reduced ? 1 : 0);
 
-  std::istringstream list(prm.get("Supports"));
-  std::string item;
-  while (std::getline(list, item, ';'))
+  for (const auto &[place, components] : base::named_items(prm.get("Supports"), entry, "node set or plane: components"))
     {
-      if (item.find_first_not_of(" \t") == std::string::npos) continue;
-      const auto colon = item.find(':');
-      if (colon == std::string::npos)
-        throw InputError(entry, "'" + item + "' is not of the form 'node set or plane: components'");
       SolidSupport support;
-      support.text = item;
-      std::string where = item.substr(0, colon);
-      where.erase(0, where.find_first_not_of(" \t"));
-      where.erase(where.find_last_not_of(" \t") + 1);
+      support.text = place + ": " + components;
+      std::string where = place;
       const auto eq = where.find('=');
       if (eq != std::string::npos)
         {
-          std::string axis = where.substr(0, eq);
-          axis.erase(axis.find_last_not_of(" \t") + 1);
+          const std::string axis = base::trim(where.substr(0, eq));
           if (axis != "x" && axis != "y" && axis != "z")
             throw InputError(entry, "'" + where + "': a plane is 'x = value', 'y = value' or 'z = value' [m]");
           support.plane_axis = axis[0] - 'x';
-          try { support.plane_position = std::stod(where.substr(eq + 1)); }
-          catch (...) { throw InputError(entry, "'" + where + "': the plane position is not a number [m]"); }
+          support.plane_position = base::parse_number(where.substr(eq + 1), entry, "the plane position [m]");
         }
       else
         {
@@ -126,14 +123,11 @@ Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &director
           support.node_set = where;
         }
       support.fixed = {false, false, false};
-      std::istringstream comps(item.substr(colon + 1));
-      std::string c;
-      while (std::getline(comps, c, ','))
+      for (const auto &c : base::split(components, ','))
         {
-          c.erase(0, c.find_first_not_of(" \t"));
-          c.erase(c.find_last_not_of(" \t") + 1);
           if (c != "x" && c != "y" && c != "z")
-            throw InputError(entry, "'" + c + "' in '" + item + "' is not a displacement component; allowed: x, y, z");
+            throw InputError(entry, "'" + base::printable_excerpt(c) + "' in '" + base::printable_excerpt(support.text) +
+                                      "' is not a displacement component; allowed: x, y, z");
           support.fixed[c[0] - 'x'] = true;
         }
       s.supports.push_back(support);

@@ -1,4 +1,5 @@
 #include <fem/fe_serendipity.h>
+#include <base/text.h>
 #include <fem/solid_mesh.h>
 #include <base/input_error.h>
 
@@ -38,11 +39,7 @@ std::string upper(std::string s)
   for (auto &c : s) c = std::toupper(static_cast<unsigned char>(c));
   return s;
 }
-std::string trim(const std::string &s)
-{
-  const auto b = s.find_first_not_of(" \t\r"), e = s.find_last_not_of(" \t\r");
-  return b == std::string::npos ? "" : s.substr(b, e - b + 1);
-}
+using base::trim;
 /// Value of KEY=VALUE in a keyword line ("" if absent).
 std::string option(const std::string &keyword_line, const std::string &key)
 {

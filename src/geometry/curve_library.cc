@@ -1,3 +1,4 @@
+#include <base/text.h>
 #include <geometry/curve_library.h>
 #include <geometry/expression.h>
 #include <geometry/spline.h>
@@ -17,16 +18,8 @@ namespace
 {
 Vec3 read_vector(ParameterHandler &prm, const std::string &entry)
 {
-  const std::string text = prm.get(entry);
-  std::istringstream in(text);
-  Vec3 v;
-  std::string item;
-  for (int d = 0; d < 3; ++d)
-    {
-      std::getline(in, item, ',');
-      v[d] = std::stod(item); // the pattern has already checked three numbers
-    }
-  return v;
+  const auto v = base::parse_vector3(prm.get(entry), entry, "m");
+  return Vec3({v[0], v[1], v[2]});
 }
 
 const auto three_numbers = List(Double(), 3, 3, ",");

@@ -1,4 +1,5 @@
 #include <geometry/expression.h>
+#include <base/text.h>
 
 #include <cctype>
 #include <cmath>
@@ -219,10 +220,7 @@ std::map<std::string, double> parse_constants(const std::string &text)
   while (std::getline(in, item, ','))
     {
       const auto eq = item.find('=');
-      auto trim = [](std::string s) {
-        const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
-        return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-      };
+      using base::trim;
       if (trim(item).empty()) continue;
       if (eq == std::string::npos)
         throw ExpressionError("constant definition \"" + trim(item) + "\" is not of the form name=value");

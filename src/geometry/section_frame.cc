@@ -1,3 +1,4 @@
+#include <base/text.h>
 #include <geometry/section_frame.h>
 #include <base/input_error.h>
 
@@ -117,11 +118,8 @@ SectionFrame SectionFrame::parse_parameters(dealii::ParameterHandler &prm, std::
 {
   prm.enter_subsection("Section frame");
   const std::string kind = prm.get("Kind");
-  std::istringstream in(prm.get("Reference vector"));
-  Vec3 ref;
-  std::string item;
-  for (int d = 0; d < 3 && std::getline(in, item, ','); ++d)
-    ref[d] = std::stod(item);
+  const auto r = base::parse_vector3(prm.get("Reference vector"), where.section + "/Section frame/Reference vector", "-");
+  const Vec3 ref({r[0], r[1], r[2]});
   prm.leave_subsection();
   const Kind k = kind == "frenet" ? Kind::frenet : kind == "fixed vector" ? Kind::fixed_vector : Kind::rotation_minimising;
   try

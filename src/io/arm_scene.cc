@@ -1,12 +1,7 @@
+#include <base/text.h>
 #include <io/arm_scene.h>
 #include <io/body_export.h>
 #include <base/input_error.h>
-#include <base/parse_error.h>
-
-#include <algorithm>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace flextrack::io
 {
@@ -35,83 +30,52 @@ OutputSettings OutputSettings::parse_parameters(ParameterHandler &prm)
   s.directory = prm.get("Directory");
   s.mode_shapes = prm.get_bool("Mode shapes");
   s.subdivisions = prm.get_integer("Subdivisions");
-  std::string formats = prm.get("Export formats");
-  for (auto &c : formats)
-    if (c == ',') c = ' ';
-  std::istringstream list(formats);
-  for (std::string f; list >> f;)
-    {
-      const auto &known = io::export_formats();
-      if (std::find(known.begin(), known.end(), f) == known.end())
-        throw InputError("Output/Export formats", "unknown export format '" + f + "'; allowed: " + export_format_list());
-      s.export_formats.push_back(f);
-    }
+  for (const auto &f : base::words(prm.get("Export formats")))
+    s.export_formats.push_back(find_export_format(f, "Output/Export formats").name);
   prm.leave_subsection();
   return s;
 }
 
 void declare_arm_scene(ParameterHandler &prm)
 {
-  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid"),
-                    "The structure of the scene: 'arm' (a curved beam, subsection Arm) or 'solid' (a 3D body "
-                    "meshed with hexahedra, subsection Solid).");
+  declare_model_entry(prm);
   fem::Arm::declare_parameters(prm);
   fem::Solid::declare_parameters(prm);
   reduction::ModalSettings::declare_parameters(prm);
   OutputSettings::declare_parameters(prm);
 }
 
-namespace
-{
-ArmScene build_scene(ParameterHandler &prm, const std::string &file, const std::string &directory)
+ArmScene read_arm_scene(const SceneFile &file, ParameterHandler &prm)
 {
   try
     {
+      if (file.model == "body")
+        throw InputError("Model", "a 'body' scene is reduced by 'flextrack reduce', not analysed as one arm or solid");
+      file.parse(prm, false);
       ArmScene scene;
-      scene.file = file;
-      scene.is_solid = prm.get("Model") == "solid";
+      scene.file = file.name;
+      scene.is_solid = file.model == "solid";
       if (scene.is_solid)
-        scene.solid = fem::Solid::parse_parameters(prm, directory);
+        scene.solid = fem::Solid::parse_parameters(prm, file.directory);
       else
-        scene.arm = fem::Arm::parse_parameters(prm, directory);
+        scene.arm = fem::Arm::parse_parameters(prm, file.directory);
       scene.modal = reduction::ModalSettings::parse_parameters(prm);
       scene.output = OutputSettings::parse_parameters(prm);
       return scene;
     }
   catch (const InputError &e)
     {
-      throw e.in_file(file);
+      throw e.file().empty() ? e.in_file(file.name) : e;
     }
 }
 
-} // namespace
-
 ArmScene read_arm_scene(const std::string &file, ParameterHandler &prm)
 {
-  if (!std::filesystem::is_regular_file(file) || !std::ifstream(file))
-    throw InputError("", "cannot open the parameter file (missing or unreadable); give an existing .prm or .json file", file);
-  try
-    {
-      prm.parse_input(file, "", false, true);
-    }
-  catch (const dealii::ExceptionBase &e)
-    {
-      throw InputError("", base::parse_error_text(e), file);
-    }
-  const auto parent = std::filesystem::path(file).parent_path().string();
-  return build_scene(prm, file, parent.empty() ? "." : parent);
+  return read_arm_scene(SceneFile::read(file), prm);
 }
 
 ArmScene read_arm_scene_from_string(const std::string &text, ParameterHandler &prm, const std::string &directory)
 {
-  try
-    {
-      prm.parse_input_from_string(text, "", false);
-    }
-  catch (const dealii::ExceptionBase &e)
-    {
-      throw InputError("", base::parse_error_text(e), "<string>");
-    }
-  return build_scene(prm, "<string>", directory);
+  return read_arm_scene(SceneFile::from_text(text, directory), prm);
 }
 } // namespace flextrack::io

@@ -4,6 +4,7 @@
 
 #include <fem/arm.h>
 #include <fem/solid.h>
+#include <io/scene_file.h>
 #include <reduction/modal_solver.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -37,8 +38,9 @@ struct ArmScene
 
 void declare_arm_scene(dealii::ParameterHandler &prm);
 
-/// Parse @p file into @p prm (declared by declare_arm_scene) and build the scene. Throws
-/// InputError naming the file and the entry.
+/// Parse @p file (Model = arm or solid) into @p prm (declared by declare_arm_scene) and build the
+/// scene. Throws InputError naming the file and the entry.
+ArmScene read_arm_scene(const SceneFile &file, dealii::ParameterHandler &prm);
 ArmScene read_arm_scene(const std::string &file, dealii::ParameterHandler &prm);
 
 /// Same, from parameter text (tests); @p directory resolves relative file names.

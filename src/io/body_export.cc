@@ -1,71 +1,57 @@
-#include <io/body_export.h>
 #include <base/input_error.h>
+#include <base/names.h>
+#include <io/body_export.h>
 #include <io/mbdyn_export.h>
 #include <io/vtu_export.h>
 
-#include <filesystem>
-#include <fstream>
-#include <unistd.h>
-#include <utility>
-
 namespace flextrack::io
 {
-namespace fs = std::filesystem;
-
-const std::vector<std::string> &export_formats()
+namespace
 {
-  static const std::vector<std::string> formats{"mbdyn", "vtu"};
+std::vector<std::pair<std::string, std::string>> mbdyn_files(const reduction::ReducedBody &body, const std::string &stem)
+{
+  return {{stem + ".fem", mbdyn_fem_text(body)}, {stem + ".elm", mbdyn_elm_text(body, stem + ".fem")}};
+}
+
+std::vector<std::pair<std::string, std::string>> vtu_files(const reduction::ReducedBody &body, const std::string &stem)
+{
+  return {{stem + "_modes.vtu", mode_shapes_vtu_text(body)}};
+}
+} // namespace
+
+const std::vector<ExportFormat> &export_formats()
+{
+  // The central table: a new format is one writer plus one row here.
+  static const std::vector<ExportFormat> formats{
+    {"mbdyn", "MBDyn modal joint: STEM.fem (modal element data) + STEM.elm (joint statement)", mbdyn_files},
+    {"vtu", "mode shapes on the body's surface, STEM_modes.vtu (ParaView, meshio)", vtu_files}};
   return formats;
 }
 
 std::string export_format_list()
 {
   std::string list;
-  for (const auto &f : export_formats()) list += (list.empty() ? "" : ", ") + f;
+  for (const auto &f : export_formats()) list += (list.empty() ? "" : ", ") + f.name;
   return list;
 }
 
-std::vector<std::string> export_reduced_body(const reduction::ReducedBody &body, const std::string &format,
-                                             const std::string &directory, const std::string &stem,
-                                             const std::string &entry)
+const ExportFormat &find_export_format(const std::string &name, const std::string &entry)
 {
-  // Everything is produced in memory first: a body the format cannot hold writes nothing.
-  std::vector<std::pair<std::string, std::string>> files; // name, text
-  if (format == "mbdyn")
-    {
-      files.emplace_back(stem + ".fem", mbdyn_fem_text(body));
-      files.emplace_back(stem + ".elm", mbdyn_elm_text(body, stem + ".fem"));
-    }
-  else if (format == "vtu")
-    files.emplace_back(stem + "_modes.vtu", mode_shapes_vtu_text(body));
-  else
-    throw InputError(entry, "unknown export format '" + format + "'; allowed: " + export_format_list());
+  for (const auto &f : export_formats())
+    if (f.name == name) return f;
+  throw InputError(entry, "unknown export format '" + base::printable_excerpt(name) + "'; allowed: " +
+                            export_format_list());
+}
 
-  std::error_code ec;
-  fs::create_directories(directory, ec);
-  if (ec || !fs::is_directory(directory))
-    throw InputError("-o / Output/Directory", "cannot create the output folder '" + directory + "'" +
-                                                (ec ? ": " + ec.message() : ""));
-  std::vector<std::string> temporary, written;
-  auto clean_up = [&] {
-    for (const auto &t : temporary) fs::remove(t, ec);
-  };
-  for (const auto &[name, text] : files)
+std::vector<std::string> export_reduced_body(const reduction::ReducedBody &body, const ExportFormat &format,
+                                             OutputFolder &folder, const std::string &stem)
+{
+  std::vector<std::string> names;
+  for (const auto &[name, text] : format.files(body, stem))
     {
-      const std::string path = (fs::path(directory) / name).string();
-      const std::string tmp = path + ".writing-" + std::to_string(getpid());
-      temporary.push_back(tmp);
-      std::ofstream out(tmp, std::ios::binary);
-      out << text;
-      out.close();
-      if (!out)
-        {
-          clean_up();
-          throw InputError("-o / Output/Directory", "cannot write '" + path + "' (is the folder writable?)");
-        }
-      written.push_back(path);
+      folder.add_text(name, text);
+      names.push_back(name);
     }
-  for (std::size_t i = 0; i < written.size(); ++i) fs::rename(temporary[i], written[i]);
-  return written;
+  return names;
 }
 } // namespace flextrack::io

@@ -1,6 +1,5 @@
 #include <io/body_scene.h>
 #include <base/input_error.h>
-#include <base/parse_error.h>
 
 #include <filesystem>
 #include <fstream>
@@ -24,37 +23,6 @@ std::uint64_t fnv1a(const std::string &bytes, std::uint64_t hash)
 
 namespace
 {
-void declare_model_entry(ParameterHandler &prm)
-{
-  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid|body"),
-                    "The structure of the scene: 'arm' (a curved beam, subsection Arm), 'solid' (a 3D body "
-                    "meshed with hexahedra, subsection Solid) or 'body' (a flexible body of a solid part and "
-                    "named arms, subsection Body, reduced by 'flextrack reduce').");
-}
-
-/// Parse text (from a file or a string) into @p prm; deal.II's errors become InputError.
-void parse(ParameterHandler &prm, const std::string &text, const std::string &name, const bool skip_undefined)
-{
-  try
-    {
-      prm.parse_input_from_string(text, "", skip_undefined);
-    }
-  catch (const dealii::ExceptionBase &e)
-    {
-      throw InputError("", base::parse_error_text(e), name);
-    }
-}
-
-std::string read_text(const std::string &file)
-{
-  if (!fs::is_regular_file(file)) throw InputError("", "cannot open the parameter file (missing or not a file); give an existing .prm file", file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError("", "cannot read the parameter file", file);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 /// Every parameter except the Output subsection, in deal.II's canonical short form, plus the
 /// bytes of every file that a value names.
 std::string hash_inputs(const ParameterHandler &prm, const std::string &directory)
@@ -101,38 +69,34 @@ std::string hash_inputs(const ParameterHandler &prm, const std::string &director
   return hex.str();
 }
 
-BodyScene read(const std::string &text, const std::string &name, const std::string &directory)
+} // namespace
+
+BodyScene read_body_scene(const SceneFile &file)
 {
-  // Pass 1: the model kind and the arm names.
-  ParameterHandler first;
-  declare_model_entry(first);
-  fem::Body::declare_arm_list(first);
-  parse(first, text, name, true);
   try
     {
-      if (first.get("Model") != "body")
-        throw InputError("Model", "'" + first.get("Model") + "' scenes are analysed by 'flextrack modes'; "
+      if (file.model != "body")
+        throw InputError("Model", "'" + file.model + "' scenes are analysed by 'flextrack modes'; "
                                   "'flextrack reduce' needs 'Model = body'");
-      const auto names = fem::Body::parse_arm_list(first);
+      const auto names = fem::Body::parse_arm_list(*file.lists);
       // Pass 2: everything, strictly.
       BodyScene scene;
-      scene.file = name;
+      scene.file = file.name;
       scene.parameters = std::make_shared<ParameterHandler>();
       declare_body_scene(*scene.parameters, names);
-      parse(*scene.parameters, text, name, false);
+      file.parse(*scene.parameters, false);
       auto &prm = *scene.parameters;
-      scene.body = fem::Body::parse_parameters(prm, directory);
+      scene.body = fem::Body::parse_parameters(prm, file.directory);
       scene.reduction = reduction::ReductionSettings::parse_parameters(prm);
       scene.output = OutputSettings::parse_parameters(prm);
-      scene.input_hash = hash_inputs(prm, directory);
+      scene.input_hash = hash_inputs(prm, file.directory);
       return scene;
     }
   catch (const InputError &e)
     {
-      throw e.in_file(name);
+      throw e.file().empty() ? e.in_file(file.name) : e;
     }
 }
-} // namespace
 
 void declare_body_scene(ParameterHandler &prm, const std::vector<std::string> &arm_names)
 {
@@ -143,22 +107,10 @@ void declare_body_scene(ParameterHandler &prm, const std::vector<std::string> &a
   OutputSettings::declare_parameters(prm);
 }
 
-std::string model_kind(const std::string &file)
-{
-  ParameterHandler first;
-  declare_model_entry(first);
-  parse(first, read_text(file), file, true);
-  return first.get("Model");
-}
-
-BodyScene read_body_scene(const std::string &file)
-{
-  const auto parent = fs::path(file).parent_path().string();
-  return read(read_text(file), file, parent.empty() ? "." : parent);
-}
+BodyScene read_body_scene(const std::string &file) { return read_body_scene(SceneFile::read(file)); }
 
 BodyScene read_body_scene_from_string(const std::string &text, const std::string &directory)
 {
-  return read(text, "<string>", directory);
+  return read_body_scene(SceneFile::from_text(text, directory));
 }
 } // namespace flextrack::io

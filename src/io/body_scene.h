@@ -1,11 +1,12 @@
 // A reduction scene: one flexible body (solid part, arms, ties, interfaces, point masses), its
 // reduction settings and the output settings, read from a parameter file with "Model = body".
-// Arms are named in "Body/Arms" and each has its own "subsection Arm NAME", so the file is read
-// twice: once for the names, once strictly with every subsection declared.
+// Arms are named in "Body/Arms" and each has its own "subsection Arm NAME": the two-pass pattern
+// of io/scene_file.h.
 #pragma once
 
 #include <fem/body.h>
 #include <io/arm_scene.h>
+#include <io/scene_file.h>
 #include <reduction/component_modes.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -32,10 +33,8 @@ struct BodyScene
 /// Declares everything a body scene may contain, with "subsection Arm NAME" for each name.
 void declare_body_scene(dealii::ParameterHandler &prm, const std::vector<std::string> &arm_names);
 
-/// The value of the top-level entry "Model" of a parameter file (arm, solid or body), so that
-/// a command can pick the right reader. Throws InputError.
-std::string model_kind(const std::string &file);
-
+/// The body scene of @p scene (which must have "Model = body"). Throws InputError.
+BodyScene read_body_scene(const SceneFile &scene);
 BodyScene read_body_scene(const std::string &file);
 /// Same, from parameter text (tests); @p directory resolves relative file names.
 BodyScene read_body_scene_from_string(const std::string &text, const std::string &directory = ".");

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -48,7 +49,16 @@ public:
           case '\\': s += "\\\\"; break;
           case '\n': s += "\\n"; break;
           case '\t': s += "\\t"; break;
-          default: s += c;
+          default:
+            if (static_cast<unsigned char>(c) < 0x20)
+              {
+                // Other control characters are not allowed raw in a JSON string.
+                char code[8];
+                std::snprintf(code, sizeof code, "\\u%04x", static_cast<unsigned int>(c));
+                s += code;
+              }
+            else
+              s += c;
         }
     return s + "\"";
   }

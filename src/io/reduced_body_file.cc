@@ -1,10 +1,10 @@
 #include <base/names.h>
 #include <io/hdf5_file.h>
 #include <base/input_error.h>
+#include <io/output_folder.h>
 #include <io/reduced_body_file.h>
 
 #include <filesystem>
-#include <unistd.h>
 
 namespace flextrack::io
 {
@@ -271,17 +271,12 @@ ReducedBody read_file(const std::string &name)
 
 void write_reduced_body(const ReducedBody &body, const std::string &file)
 {
-  namespace fs = std::filesystem;
-  const std::string temporary = file + ".writing-" + std::to_string(getpid());
   try
     {
-      write_file(body, temporary);
-      fs::rename(temporary, file);
+      write_atomically(file, [&](const std::string &temporary) { write_file(body, temporary); });
     }
-  catch (const std::exception &e)
+  catch (const std::runtime_error &e)
     {
-      std::error_code ignore;
-      fs::remove(temporary, ignore);
       throw InputError("", std::string("cannot write the reduced body: ") + e.what(), file);
     }
 }

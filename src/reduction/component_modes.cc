@@ -1,3 +1,4 @@
+#include <base/text.h>
 #include <base/input_error.h>
 #include <reduction/component_modes.h>
 #include <reduction/sparse_factorization.h>
@@ -12,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 namespace flextrack::reduction
@@ -21,10 +23,13 @@ using namespace dealii;
 void ReductionSettings::declare_parameters(ParameterHandler &prm)
 {
   prm.enter_subsection("Reduction");
-  prm.declare_entry("Method", "craig bampton", Patterns::Selection("craig bampton|free interface"),
-                    "'craig bampton': fixed-interface normal modes plus interface constraint modes; 'free "
-                    "interface': free-interface normal modes plus residual attachment modes (inertia relief "
-                    "and a mean-axis body frame for a free body).");
+  std::string names, documentation;
+  for (const auto &row : reduction_methods())
+    {
+      names += (names.empty() ? "" : "|") + row.name;
+      documentation += (documentation.empty() ? "" : "; ") + ("'" + row.name + "': " + row.description);
+    }
+  prm.declare_entry("Method", reduction_methods()[0].name, Patterns::Selection(names), documentation + ".");
   prm.declare_entry("Number of normal modes", "20", Patterns::Integer(0),
                     "Normal modes in the basis [-] (rigid-body modes of a free body not counted).");
   prm.declare_entry("Track arms", "", Patterns::Anything(),
@@ -52,12 +57,11 @@ ReductionSettings ReductionSettings::parse_parameters(ParameterHandler &prm)
   ReductionSettings s;
   s.modal = ModalSettings::parse_parameters(prm);
   prm.enter_subsection("Reduction");
-  s.method = prm.get("Method") == "free interface" ? Method::free_interface : Method::craig_bampton;
+  const std::string method = prm.get("Method");
+  for (const auto &row : reduction_methods())
+    if (row.name == method) s.method = row.method;
   s.n_normal_modes = prm.get_integer("Number of normal modes");
-  std::string list = prm.get("Track arms");
-  std::replace(list.begin(), list.end(), ',', ' ');
-  std::istringstream in(list);
-  for (std::string name; in >> name;) s.track_arms.push_back(name);
+  s.track_arms = base::words(prm.get("Track arms"));
   s.n_stations = prm.get_integer("Track stations");
   s.n_check_modes = prm.get_integer("Check modes");
   s.geometric_stiffness = prm.get_bool("Geometric stiffness");
@@ -70,7 +74,7 @@ ReductionSettings ReductionSettings::parse_parameters(ParameterHandler &prm)
 
 std::string ReductionSettings::method_name() const
 {
-  return method == Method::craig_bampton ? "craig bampton" : "free interface";
+  return reduction_method(method).name;
 }
 
 std::vector<double> ReducedBasis::frequencies_hz() const
@@ -297,14 +301,15 @@ std::vector<FullMatrix<double>> geometric_stiffness_of_inertial_loads(const fem:
 }
 } // namespace
 
-ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &settings)
+namespace
 {
-  const bool free_body = !body.is_supported();
-  const bool craig_bampton = settings.method == ReductionSettings::Method::craig_bampton;
-  const auto &interfaces = body.interfaces();
-  if (free_body && interfaces.empty() && (craig_bampton || !settings.track_arms.empty()))
-    throw InputError("Body/Interfaces", std::string("a free body reduced by ") +
-                                          (craig_bampton ? "Craig-Bampton" : "free-interface modes with track load modes") +
+/// Indices of the arms named in Reduction/Track arms; refuses requests the body cannot meet.
+std::vector<unsigned int> checked_track_arms(const fem::BodyModel &body, const ReductionSettings &settings,
+                                             const ReductionMethod &method)
+{
+  if (!body.is_supported() && body.interfaces().empty() && (method.fixed_interface || !settings.track_arms.empty()))
+    throw InputError("Body/Interfaces", "a free body reduced by " + method.title +
+                                          (method.fixed_interface ? "" : " with track load modes") +
                                           " needs an interface: the first interface is the body frame (the static "
                                           "solves are anchored there); add one, or support the body");
   std::vector<unsigned int> track_arms;
@@ -316,28 +321,29 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
         throw InputError("Reduction/Track arms", "'" + name + "' is not an arm of the body (listed in Body/Arms)");
       track_arms.push_back(a);
     }
+  return track_arms;
+}
 
-  // Clamped dofs: all interfaces (Craig-Bampton) or, for static solves of a free body, the
-  // frame interface.
+/// Dofs held fixed: every interface (fixed-interface method) or, for the static solves of a
+/// free body, the frame interface.
+std::vector<unsigned int> clamped_dofs(const fem::BodyModel &body, const ReductionMethod &method)
+{
   std::vector<unsigned int> clamped;
-  if (craig_bampton)
+  const auto &interfaces = body.interfaces();
+  if (method.fixed_interface)
     for (const auto &p : interfaces) clamped.insert(clamped.end(), p.dofs.begin(), p.dofs.end());
-  else if (free_body && !interfaces.empty())
+  else if (!body.is_supported() && !interfaces.empty())
     clamped.assign(interfaces[0].dofs.begin(), interfaces[0].dofs.end());
-  ReducedBasis r;
-  Timer step;
-  auto lap = [&](const std::string &name) {
-    r.timings.emplace_back(name, step.wall_time());
-    step.restart();
-  };
-  ClampedBody anchored(body, clamped);
-  lap("clamp interfaces");
+  return clamped;
+}
 
-  const TrilinosWrappers::SparseMatrix &M = body.mass_matrix();
-  // Mean-axis frame (free-interface method, free body): every vector M-orthogonal to R.
-  const unsigned int n_rigid = (!craig_bampton && free_body) ? 6 : 0;
-  const MOrthonormalSet R = n_rigid ? orthonormal_rigid_modes(body) : MOrthonormalSet();
-  const unsigned int n_free = craig_bampton ? anchored.size() : body.n_dofs();
+/// The normal modes (fixed- or free-interface) appended to @p basis, M-orthogonal to @p R.
+void add_normal_modes(const fem::BodyModel &body, ClampedBody &anchored, const MOrthonormalSet &R,
+                      const ReductionSettings &settings, const ReductionMethod &method, MOrthonormalSet &basis)
+{
+  const bool free_body = !body.is_supported();
+  const unsigned int n_rigid = R.vectors.size();
+  const unsigned int n_free = method.fixed_interface ? anchored.size() : body.n_dofs();
   if (settings.n_normal_modes + n_rigid >= n_free)
     {
       std::ostringstream m;
@@ -346,61 +352,51 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
         << "; allowed: fewer than " << n_free - n_rigid << ", or refine the mesh";
       throw InputError("Reduction/Number of normal modes", m.str());
     }
+  if (settings.n_normal_modes == 0) return;
+  ModalSettings modal = settings.modal;
+  modal.n_modes = settings.n_normal_modes + n_rigid;
+  const auto &K_eig = method.fixed_interface ? anchored.K() : body.stiffness_matrix();
+  const auto &M_eig = method.fixed_interface ? anchored.M() : body.mass_matrix();
+  // Fixed interfaces: K is positive definite, so shift 0 works and one Cholesky factor serves the
+  // eigen solve and all static solves.
+  const bool share = method.fixed_interface && std::isnan(modal.shift) &&
+                     (modal.direct_solver == "auto" || modal.direct_solver == "cholmod");
+  const Modes modes = share ? lowest_modes(K_eig, M_eig, n_free, modal, 0.0, anchored.factorization())
+                            : lowest_modes(K_eig, M_eig, n_free, modal);
+  if (n_rigid == 0 && modes.eigenvalues[0] < 1e-10 * std::abs(modes.eigenvalues.back()))
+    throw SolverError("the " + std::string(free_body ? "body, held at its first interface," : "supported body") +
+                      " still has a zero-energy mode (eigenvalue " + std::to_string(modes.eigenvalues[0]) +
+                      " rad^2/s^2): a mechanism; check Body/Ties (a region that cannot carry the arm root's "
+                      "rotation) and the supports");
+  // The six near-zero modes of a free body are the rigid-body motions (replaced by the exact R);
+  // a seventh near-zero eigenvalue means a part that is not connected.
+  if (n_rigid > 0 && std::abs(modes.eigenvalues[6]) < 1e-8 * std::abs(modes.eigenvalues.back()))
+    throw SolverError("the free body has more than six zero-energy modes (eigenvalue " +
+                      std::to_string(modes.eigenvalues[6]) + " rad^2/s^2): a part is not tied to the rest; "
+                      "check Body/Ties");
+  for (unsigned int i = n_rigid; i < modes.shapes.size(); ++i)
+    basis.append(method.fixed_interface ? anchored.expand(modes.shapes[i]) : modes.shapes[i], R, body.mass_matrix());
+}
 
-  MOrthonormalSet basis;
-  if (settings.n_normal_modes > 0)
-    {
-      ModalSettings modal = settings.modal;
-      modal.n_modes = settings.n_normal_modes + n_rigid;
-      const TrilinosWrappers::SparseMatrix &K_eig = craig_bampton ? anchored.K() : body.stiffness_matrix();
-      const TrilinosWrappers::SparseMatrix &M_eig = craig_bampton ? anchored.M() : M;
-      // Craig-Bampton: K with the interfaces clamped is positive definite, so shift 0 works and
-      // one Cholesky factor serves the eigen solve and all static solves.
-      const bool share = craig_bampton && std::isnan(modal.shift) && (modal.direct_solver == "auto" || modal.direct_solver == "cholmod");
-      if (share)
-        {
-          anchored.factorization();
-          lap("factorise (Cholesky)");
-        }
-      const Modes modes = share ? lowest_modes(K_eig, M_eig, n_free, modal, 0.0, anchored.factorization())
-                                : lowest_modes(K_eig, M_eig, n_free, modal);
-      if (n_rigid == 0 && modes.eigenvalues[0] < 1e-10 * std::abs(modes.eigenvalues.back()))
-        throw SolverError("the " + std::string(free_body ? "body, held at its first interface," : "supported body") +
-                          " still has a zero-energy mode (eigenvalue " + std::to_string(modes.eigenvalues[0]) +
-                          " rad^2/s^2): a mechanism; check Body/Ties (a region that cannot carry the arm root's "
-                          "rotation) and the supports");
-      if (n_rigid > 0)
-        {
-          // The six near-zero modes are the rigid-body motions (replaced by the exact R); a
-          // seventh near-zero eigenvalue means a part that is not connected.
-          const double largest = std::abs(modes.eigenvalues.back());
-          if (std::abs(modes.eigenvalues[6]) < 1e-8 * largest)
-            throw SolverError("the free body has more than six zero-energy modes (eigenvalue " +
-                              std::to_string(modes.eigenvalues[6]) + " rad^2/s^2): a part is not tied to the rest; "
-                              "check Body/Ties");
-        }
-      for (unsigned int i = n_rigid; i < modes.shapes.size(); ++i)
-        {
-          Vector<double> phi = craig_bampton ? anchored.expand(modes.shapes[i]) : modes.shapes[i];
-          basis.append(phi, R, M);
-        }
-      r.n_normal = basis.vectors.size();
-      lap("eigen solve");
-    }
-
-  // Static vectors: constraint modes (Craig-Bampton) or residual attachment modes, then track
-  // load modes; all loads are solved together with the one factorisation.
+/// The static vectors: interface constraint modes (fixed interface) or residual attachment modes
+/// (free interface), then track load modes; all solved with the one factorisation.
+void add_static_modes(const fem::BodyModel &body, ClampedBody &anchored, const MOrthonormalSet &R,
+                      const ReductionSettings &settings, const ReductionMethod &method,
+                      const std::vector<unsigned int> &track_arms, MOrthonormalSet &basis, ReducedBasis &r)
+{
   const auto &K = body.stiffness_matrix();
+  const auto &interfaces = body.interfaces();
+  const bool relieve = !R.vectors.empty();
   std::vector<Vector<double>> loads;
-  std::vector<int> prescribed; // Craig-Bampton: the interface dof set to 1, else -1
+  std::vector<int> prescribed; // fixed interface: the interface dof set to 1, else -1
   std::vector<bool> is_track;
   for (unsigned int p = 0; p < interfaces.size(); ++p)
     {
-      if (craig_bampton && free_body && p == 0) continue; // the body frame
+      if (method.fixed_interface && !body.is_supported() && p == 0) continue; // the body frame
       for (const auto dof : interfaces[p].dofs)
         {
           Vector<double> f(body.n_dofs());
-          if (craig_bampton)
+          if (method.fixed_interface)
             {
               // u = e_j on the interface, K_oo u_o = -K_oj elsewhere.
               Vector<double> e(body.n_dofs());
@@ -410,8 +406,8 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
             }
           else
             f[dof] = 1;
-          loads.push_back(n_rigid ? inertia_relief(f, R) : f);
-          prescribed.push_back(craig_bampton ? static_cast<int>(dof) : -1);
+          loads.push_back(relieve ? inertia_relief(f, R) : f);
+          prescribed.push_back(method.fixed_interface ? static_cast<int>(dof) : -1);
           is_track.push_back(false);
         }
     }
@@ -422,7 +418,7 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
         for (unsigned int d = 0; d < 3; ++d)
           {
             const Vector<double> f = body.arm_point_load(a, k * L / settings.n_stations, Tensor<1, 3>(Point<3>::unit_vector(d)));
-            loads.push_back(n_rigid ? inertia_relief(f, R) : f);
+            loads.push_back(relieve ? inertia_relief(f, R) : f);
             prescribed.push_back(-1);
             is_track.push_back(true);
           }
@@ -432,19 +428,20 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
   for (unsigned int i = 0; i < responses.size(); ++i)
     {
       if (prescribed[i] >= 0) responses[i][prescribed[i]] = 1;
-      const bool kept = basis.append(std::move(responses[i]), R, M);
-      if (!kept)
+      if (!basis.append(std::move(responses[i]), R, body.mass_matrix()))
         ++r.n_dropped;
       else if (is_track[i])
         ++r.n_track;
       else
         ++r.n_interface;
     }
-  lap("static modes");
-  // An empty basis is allowed: the rigid limit of the body (its inertia only).
+}
 
-  // Rotate the basis onto the reduced eigenvectors: Phi^T M Phi = 1, Phi^T K Phi = diag(w^2).
-  // K_r and M_r come from the stored products; the rotated ones are V^T K_r V and V^T M_r V.
+/// Rotates @p basis onto the reduced eigenvectors: Phi^T M Phi = 1, Phi^T K Phi = diag(w^2).
+/// K_r and M_r come from the stored products; the rotated ones are V^T K_r V and V^T M_r V.
+void diagonalise(const fem::BodyModel &body, const MOrthonormalSet &basis, ReducedBasis &r)
+{
+  const auto &K = body.stiffness_matrix();
   const unsigned int n = basis.vectors.size();
   LAPACKFullMatrix<double> Kr(n), Mr(n);
   {
@@ -486,19 +483,73 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
   r.mass.reinit(n, n);
   r.stiffness.triple_product(K_basis, T, T, true, false);
   r.mass.triple_product(M_basis, T, T, true, false);
-  lap("project and diagonalise");
-  if (settings.geometric_stiffness)
-    {
-      r.geometric_stiffness = geometric_stiffness_of_inertial_loads(
-        body, r.modes, n_rigid ? R : free_body ? orthonormal_rigid_modes(body) : MOrthonormalSet());
-      lap("geometric stiffness");
-    }
+}
+
+/// C = alpha M + beta K + diag(2 zeta w_i m_i).
+void add_damping(const ReductionSettings &settings, ReducedBasis &r)
+{
+  const unsigned int n = r.mass.m();
   r.damping.reinit(n, n);
   for (unsigned int a = 0; a < n; ++a)
     for (unsigned int b = 0; b < n; ++b)
       r.damping(a, b) = settings.rayleigh_mass * r.mass(a, b) + settings.rayleigh_stiffness * r.stiffness(a, b);
   for (unsigned int a = 0; a < n; ++a)
     r.damping(a, a) += 2 * settings.damping_ratio * std::sqrt(std::max(0.0, r.stiffness(a, a) / r.mass(a, a))) * r.mass(a, a);
+}
+} // namespace
+
+const std::vector<ReductionMethod> &reduction_methods()
+{
+  // The central table: the parameter "Reduction/Method" selects a row by name.
+  static const std::vector<ReductionMethod> methods{
+    {ReductionSettings::Method::craig_bampton, "craig bampton", "Craig-Bampton",
+     "fixed-interface normal modes plus interface constraint modes", true},
+    {ReductionSettings::Method::free_interface, "free interface", "free-interface modes",
+     "free-interface normal modes plus residual attachment modes (inertia relief and a mean-axis body frame "
+     "for a free body)", false}};
+  return methods;
+}
+
+const ReductionMethod &reduction_method(const ReductionSettings::Method m)
+{
+  for (const auto &row : reduction_methods())
+    if (row.method == m) return row;
+  Assert(false, ExcInternalError());
+  return reduction_methods()[0];
+}
+
+ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &settings, TimerOutput *timer)
+{
+  const ReductionMethod &method = reduction_method(settings.method);
+  const auto track_arms = checked_track_arms(body, settings, method);
+  std::optional<TimerOutput::Scope> stage; // one timing mechanism: the caller's TimerOutput
+  auto start = [&](const char *name) {
+    stage.reset();
+    if (timer) stage.emplace(*timer, std::string("reduce: ") + name);
+  };
+  start("clamp and factorise");
+  ClampedBody anchored(body, clamped_dofs(body, method));
+  // Mean-axis frame (free-interface method, free body): every vector M-orthogonal to R.
+  const bool mean_axes = !method.fixed_interface && !body.is_supported();
+  const MOrthonormalSet R = mean_axes ? orthonormal_rigid_modes(body) : MOrthonormalSet();
+  ReducedBasis r;
+  MOrthonormalSet basis;
+  start("eigen solve");
+  add_normal_modes(body, anchored, R, settings, method, basis);
+  r.n_normal = basis.vectors.size();
+  start("static modes");
+  add_static_modes(body, anchored, R, settings, method, track_arms, basis, r);
+  // An empty basis is allowed: the rigid limit of the body (its inertia only).
+  start("project and diagonalise");
+  diagonalise(body, basis, r);
+  if (settings.geometric_stiffness)
+    {
+      start("geometric stiffness");
+      r.geometric_stiffness = geometric_stiffness_of_inertial_loads(
+        body, r.modes, mean_axes ? R : !body.is_supported() ? orthonormal_rigid_modes(body) : MOrthonormalSet());
+    }
+  stage.reset();
+  add_damping(settings, r);
   return r;
 }
 

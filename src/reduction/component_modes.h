@@ -25,6 +25,7 @@
 #include <reduction/modal_solver.h>
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
 
@@ -62,7 +63,6 @@ struct ReducedBasis
   unsigned int n_track = 0;     ///< track load vectors kept
   unsigned int n_dropped = 0;   ///< static vectors dropped as dependent
   std::vector<double> frequencies_hz() const; ///< of the reduced model, ascending
-  std::vector<std::pair<std::string, double>> timings; ///< wall time [s] of each step
   /// Geometric stiffness of the 12 unit inertial load cases (empty unless asked for), each n x n:
   /// 0-5 centrifugal, W = omega omega^T = e_x e_x^T, e_y e_y^T, e_z e_z^T, e_x e_y^T + e_y e_x^T,
   /// e_x e_z^T + e_z e_x^T, e_y e_z^T + e_z e_y^T; 6-8 acceleration e_x, e_y, e_z of the frame
@@ -71,9 +71,25 @@ struct ReducedBasis
   std::vector<dealii::FullMatrix<double>> geometric_stiffness;
 };
 
-/// Reduce @p body. Throws InputError for impossible requests (more modes than dofs, a free body
-/// without an interface to refer it to, an unknown track arm) and SolverError for failures.
-ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &settings);
+/// A reduction method: one row of the central table reduction_methods(). The two methods of
+/// FlexTrack differ in one choice, whether the interfaces are held fixed for the normal modes
+/// (then the static vectors are constraint modes) or left free (then they are residual
+/// attachment modes); the steps of reduce() read that choice from the row.
+struct ReductionMethod
+{
+  ReductionSettings::Method method;
+  std::string name;        ///< the value of Reduction/Method
+  std::string title;       ///< for messages
+  std::string description; ///< for print-parameters
+  bool fixed_interface;
+};
+const std::vector<ReductionMethod> &reduction_methods();
+const ReductionMethod &reduction_method(ReductionSettings::Method method);
+
+/// Reduce @p body; the stages are timed in @p timer if given. Throws InputError for impossible
+/// requests (more modes than dofs, a free body without an interface to refer it to, an unknown
+/// track arm) and SolverError for failures.
+ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &settings, dealii::TimerOutput *timer = nullptr);
 
 /// The @p n lowest frequencies [Hz] of the full FE model that the reduced model approximates:
 /// the supported body; a free body held at its first interface (Craig-Bampton: the body frame);

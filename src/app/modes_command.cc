@@ -1,26 +1,22 @@
-// The analyses behind the command line. They follow the pipeline: read the scene (io), build
-// the arm's FE model (geometry, fem), solve the eigenproblem (reduction), write results (io).
-// Nothing is written until every computation has succeeded, so a failed run leaves no
-// half-written results behind.
-#include <app/command_support.h>
+// flextrack modes and flextrack converge: the natural modes of one arm or solid, once or on
+// successively refined meshes. They follow the pipeline: read the scene (io), build the FE model
+// (geometry, fem), solve the eigenproblem (reduction), write results (io). Nothing is written
+// until every computation has succeeded, so a failed run leaves no half-written results behind.
 #include <app/commands.h>
 #include <base/external_program.h>
-#include <io/body_scene.h>
-#include <fem/curved_beam_model.h>
-#include <io/arm_scene.h>
 #include <base/input_error.h>
-#include <io/json.h>
+#include <fem/curved_beam_model.h>
+#include <fem/solid_model.h>
+#include <io/arm_scene.h>
+#include <io/body_scene.h>
 #include <io/mode_shape_writer.h>
+#include <io/output_folder.h>
 #include <reduction/modal_solver.h>
 
 #include <deal.II/base/timer.h>
 
-#include <sys/resource.h>
-
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -32,9 +28,14 @@ namespace fs = std::filesystem;
 
 namespace
 {
-
-
-
+/// Removes the mode-shape files of an earlier run (it may have had more modes than this one).
+void remove_mode_shapes(const std::string &folder)
+{
+  if (!io::is_first_process()) return;
+  std::error_code ec;
+  for (const auto &entry : fs::directory_iterator(folder, ec))
+    if (entry.path().filename().string().rfind("mode_shapes", 0) == 0) fs::remove(entry.path(), ec);
+}
 
 struct ModalRun
 {
@@ -84,10 +85,6 @@ ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, Timer
         else
           model.arm = std::make_unique<fem::CurvedBeamModel>(scene.arm, refinement);
       }
-    catch (const geometry::FrameError &e)
-      {
-        throw InputError("Arm/Section frame/Kind", e.what(), scene.file);
-      }
     catch (const InputError &e)
       {
         throw e.in_file(scene.file);
@@ -131,22 +128,19 @@ std::string describe(const io::ArmScene &scene)
       << " elements of degree " << scene.arm.degree;
   return d.str();
 }
-
-
 } // namespace
 
-int modes(const Options &options)
+int modes_command(const Options &options, const io::SceneFile &file)
 {
   Timer wall;
   std::ostringstream log;
   TimerOutput timer(log, TimerOutput::never, TimerOutput::wall_times);
-  if (io::model_kind(options.file) == "body") return reduce(options);
   ParameterHandler prm;
   io::declare_arm_scene(prm);
   io::ArmScene scene;
   {
     TimerOutput::Scope t(timer, "read parameters and geometry");
-    scene = io::read_arm_scene(options.file, prm);
+    scene = io::read_arm_scene(file, prm);
   }
   std::cout << "flextrack modes: " << options.file << "\n  " << describe(scene) << std::endl;
 
@@ -155,22 +149,17 @@ int modes(const Options &options)
   const std::vector<double> f = run.modes.frequencies_hz();
 
   // Every computation has succeeded: now write the results.
-  const std::string dir = output_directory(options.output_directory, scene.output.directory, options.file);
+  io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
   {
     TimerOutput::Scope t(timer, "write output");
-    make_directory(dir);
-    std::ostringstream csv;
-    csv << "mode,frequency_Hz\n";
-    for (std::size_t k = 0; k < f.size(); ++k) csv << k + 1 << "," << csv_number(f[k]) << "\n";
-    write_text(dir + "/frequencies.csv", csv.str());
-    std::ostringstream used;
-    prm.print_parameters(used, ParameterHandler::OutputStyle(ParameterHandler::PRM | ParameterHandler::Short));
-    write_text(dir + "/parameters_used.prm", used.str());
-    if (scene.output.mode_shapes && model.arm && is_root())
-      io::write_mode_shapes<1>(dir, model.arm->dof_handler(), model.arm->mapping(), run.modes.shapes,
+    out.add_frequencies(f);
+    out.add_parameters(prm);
+    remove_mode_shapes(out.path());
+    if (scene.output.mode_shapes && model.arm && io::is_first_process())
+      io::write_mode_shapes<1>(out.path(), model.arm->dof_handler(), model.arm->mapping(), run.modes.shapes,
                                scene.output.subdivisions);
     if (scene.output.mode_shapes && model.solid)
-      io::write_mode_shapes<3>(dir, model.solid->dof_handler(), model.solid->mapping(), run.modes.shapes,
+      io::write_mode_shapes<3>(out.path(), model.solid->dof_handler(), model.solid->mapping(), run.modes.shapes,
                                std::min(scene.output.subdivisions, 2u));
   }
   io::JsonObject summary;
@@ -184,26 +173,24 @@ int modes(const Options &options)
     .add("mpi_processes", Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD))
     .add("frequencies_Hz", f)
     .add("eigenvalues_rad2_per_s2", run.modes.eigenvalues)
-    .add("wall_time_s", timings_json(timer))
+    .add("wall_time_s", io::timings_json(timer))
     .add("total_wall_time_s", wall.wall_time())
-    .add("peak_memory_MiB", peak_memory_mib())
-    .raw("parameters", parameters_as_json(prm));
-  write_text(dir + "/summary.json", summary.str() + "\n");
+    .add("peak_memory_MiB", io::peak_memory_mib())
+    .raw("parameters", io::parameters_as_json(prm));
+  out.add_summary(summary);
+  out.commit();
 
   std::cout << "  degrees of freedom: " << run.n_dofs << " (" << run.n_free_dofs << " free)\n\n"
             << "  mode  frequency [Hz]\n";
   for (std::size_t k = 0; k < f.size(); ++k)
     std::cout << "  " << std::setw(4) << k + 1 << "  " << std::setprecision(10) << f[k] << "\n";
-  std::cout << "\n  wall time [s]:";
-  for (const auto &[name, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))
-    std::cout << "  " << name << " " << std::setprecision(3) << seconds << ";";
-  std::cout << "  total " << wall.wall_time() << "\n  peak memory: " << std::setprecision(4) << peak_memory_mib()
-            << " MiB\n  results in " << dir << "/ (frequencies.csv, summary.json"
+  print_timings(timer, wall);
+  std::cout << "  results in " << out.path() << "/ (frequencies.csv, summary.json"
             << (scene.output.mode_shapes ? ", mode_shapes.pvd" : "") << ")" << std::endl;
   return 0;
 }
 
-int converge(const Options &options)
+int converge_command(const Options &options, const io::SceneFile &file)
 {
   Timer wall;
   std::ostringstream log;
@@ -213,7 +200,7 @@ int converge(const Options &options)
   io::ArmScene scene;
   {
     TimerOutput::Scope t(timer, "read parameters and geometry");
-    scene = io::read_arm_scene(options.file, prm);
+    scene = io::read_arm_scene(file, prm);
   }
   const unsigned int K = options.refinements;
   std::cout << "flextrack converge: " << options.file << ", " << K << " refinements of\n  " << describe(scene)
@@ -251,9 +238,9 @@ int converge(const Options &options)
             order = std::log2(std::abs(previous / change));
           }
         const double error = k < K ? std::abs(fk - finest) / std::abs(finest) : NAN;
-        auto field = [](double v) { return std::isnan(v) ? std::string() : csv_number(v); };
-        csv << m + 1 << "," << k << "," << levels[k].n_cells << "," << levels[k].n_dofs << "," << csv_number(fk) << ","
-            << field(change) << "," << field(order) << "," << field(error) << "," << csv_number(level_times[k]) << "\n";
+        auto field = [](double v) { return std::isnan(v) ? std::string() : io::csv_number(v); };
+        csv << m + 1 << "," << k << "," << levels[k].n_cells << "," << levels[k].n_dofs << "," << io::csv_number(fk) << ","
+            << field(change) << "," << field(order) << "," << field(error) << "," << io::csv_number(level_times[k]) << "\n";
         std::ostringstream row;
         row << std::setw(6) << m + 1 << std::setw(6) << k << std::setw(9) << levels[k].n_dofs << std::setw(20)
             << std::setprecision(12) << fk << std::setw(16) << std::setprecision(3) << std::scientific;
@@ -263,9 +250,8 @@ int converge(const Options &options)
         std::cout << row.str() << "\n";
       }
 
-  const std::string dir = output_directory(options.output_directory, scene.output.directory, options.file);
-  make_directory(dir);
-  write_text(dir + "/convergence.csv", csv.str());
+  io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
+  out.add_text("convergence.csv", csv.str());
   // Plot: relative error against the finest level versus dofs, log-log, one line per mode.
   std::ostringstream gp;
   gp << "# gnuplot script written by flextrack converge\n"
@@ -275,9 +261,7 @@ int converge(const Options &options)
      << "set title '" << gnuplot_single_quoted("Mesh convergence: " + describe(scene)) << "' noenhanced\n"
      << "plot for [m=1:" << n_modes << "] 'convergence.csv' using ($1==m && $8 > 0 ? $4 : NaN):8 "
      << "with linespoints title sprintf('mode %d', m)\n";
-  write_text(dir + "/convergence.gp", gp.str());
-  // gnuplot runs in the output folder from an argument vector: no shell sees the folder's name.
-  const bool plotted = base::run_program({"gnuplot", "convergence.gp"}, dir) == 0;
+  out.add_text("convergence.gp", gp.str());
 
   io::JsonObject summary;
   summary.add("program", "flextrack " FLEXTRACK_VERSION)
@@ -293,18 +277,21 @@ int converge(const Options &options)
       level_list += (k ? ", " : "") + l.str(4);
     }
   summary.raw("levels", level_list + "]")
-    .add("wall_time_s", timings_json(timer))
+    .add("wall_time_s", io::timings_json(timer))
     .add("total_wall_time_s", wall.wall_time())
-    .add("peak_memory_MiB", peak_memory_mib())
-    .raw("parameters", parameters_as_json(prm));
-  write_text(dir + "/summary.json", summary.str() + "\n");
-  std::cout << "\n  results in " << dir << "/ (convergence.csv, summary.json"
+    .add("peak_memory_MiB", io::peak_memory_mib())
+    .raw("parameters", io::parameters_as_json(prm));
+  out.add_summary(summary);
+  out.commit();
+  // gnuplot runs in the output folder from an argument vector: no shell sees the folder's name.
+  const bool plotted = io::is_first_process() && base::run_program({"gnuplot", "convergence.gp"}, out.path()) == 0;
+  std::cout << "\n  results in " << out.path() << "/ (convergence.csv, summary.json"
             << (plotted ? ", convergence.png" : "; gnuplot not found, no plot") << ")\n  total wall time "
             << wall.wall_time() << " s" << std::endl;
   return 0;
 }
 
-int print_parameters()
+int print_parameters_command()
 {
   // Every scene kind: "Model", "Arm" (arm scenes), "Solid", and a body with one arm called NAME.
   ParameterHandler prm;

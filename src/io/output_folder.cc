@@ -1,0 +1,170 @@
+#include <base/input_error.h>
+#include <io/output_folder.h>
+
+#include <mpi.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace flextrack::io
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+const char *const folder_entry = "-o / Output/Directory";
+
+std::string temporary_name(const std::string &path) { return path + ".writing-" + std::to_string(getpid()); }
+
+/// Writes @p text to @p path; InputError with the system's reason (e.g. "No space left on device").
+void write_file(const std::string &path, const std::string &text, const std::string &final_name)
+{
+  errno = 0;
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.flush();
+  out.close();
+  if (!out)
+    throw InputError(folder_entry, "cannot write '" + final_name + "': " +
+                                     (errno ? std::strerror(errno) : "write error") +
+                                     " (is the disk full or the folder read-only?)");
+}
+} // namespace
+
+bool is_first_process()
+{
+  int started = 0;
+  MPI_Initialized(&started);
+  if (!started) return true;
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank == 0;
+}
+
+void write_atomically(const std::string &path, const std::function<void(const std::string &)> &write)
+{
+  const std::string temporary = temporary_name(path);
+  try
+    {
+      write(temporary);
+      fs::rename(temporary, path);
+    }
+  catch (...)
+    {
+      std::error_code ignore;
+      fs::remove(temporary, ignore);
+      throw;
+    }
+}
+
+std::string OutputFolder::choose(const std::string &option, const std::string &scene_directory, const std::string &file)
+{
+  if (!option.empty()) return option;
+  if (!scene_directory.empty()) return scene_directory;
+  return "output/" + fs::path(file).stem().string();
+}
+
+OutputFolder::OutputFolder(std::string path) : folder(std::move(path)) {}
+
+void OutputFolder::create() const
+{
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if (ec || !fs::is_directory(folder))
+    throw InputError(folder_entry, "cannot create the output folder '" + folder +
+                                     "': " + (ec ? ec.message() : "a file of that name exists"));
+}
+
+OutputFolder::~OutputFolder()
+{
+  if (committed) return;
+  std::error_code ignore;
+  for (const auto &[temporary, name] : staged) fs::remove(temporary, ignore);
+}
+
+void OutputFolder::add_text(const std::string &name, const std::string &text)
+{
+  if (!is_first_process()) return;
+  create();
+  const std::string final_name = folder + "/" + name;
+  const std::string temporary = temporary_name(final_name);
+  staged.emplace_back(temporary, final_name);
+  write_file(temporary, text, final_name);
+}
+
+std::string OutputFolder::add_file(const std::string &name)
+{
+  create();
+  const std::string final_name = folder + "/" + name;
+  staged.emplace_back(temporary_name(final_name), final_name);
+  return staged.back().first;
+}
+
+std::vector<std::string> OutputFolder::commit()
+{
+  std::vector<std::string> names;
+  for (const auto &[temporary, name] : staged)
+    {
+      std::error_code ec;
+      if (!fs::exists(temporary, ec)) continue; // another process's file, or not written
+      fs::rename(temporary, name, ec);
+      if (ec) throw InputError(folder_entry, "cannot rename '" + temporary + "' to '" + name + "': " + ec.message());
+      names.push_back(name);
+    }
+  committed = true;
+  return names;
+}
+
+void OutputFolder::add_frequencies(const std::vector<double> &frequencies_hz)
+{
+  std::ostringstream csv;
+  csv << "mode,frequency_Hz\n";
+  for (std::size_t k = 0; k < frequencies_hz.size(); ++k) csv << k + 1 << "," << csv_number(frequencies_hz[k]) << "\n";
+  add_text("frequencies.csv", csv.str());
+}
+
+void OutputFolder::add_parameters(const dealii::ParameterHandler &prm)
+{
+  std::ostringstream used;
+  prm.print_parameters(used, dealii::ParameterHandler::OutputStyle(dealii::ParameterHandler::PRM |
+                                                                     dealii::ParameterHandler::Short));
+  add_text("parameters_used.prm", used.str());
+}
+
+void OutputFolder::add_summary(const JsonObject &summary) { add_text("summary.json", summary.str() + "\n"); }
+
+std::string parameters_as_json(const dealii::ParameterHandler &prm)
+{
+  std::ostringstream s;
+  prm.print_parameters(s, dealii::ParameterHandler::OutputStyle(dealii::ParameterHandler::JSON |
+                                                                 dealii::ParameterHandler::Short));
+  return s.str();
+}
+
+JsonObject timings_json(const dealii::TimerOutput &timer)
+{
+  JsonObject t;
+  for (const auto &[name, seconds] : timer.get_summary_data(dealii::TimerOutput::total_wall_time)) t.add(name, seconds);
+  return t;
+}
+
+double peak_memory_mib()
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;
+}
+
+std::string csv_number(const double v)
+{
+  std::ostringstream o;
+  o << std::setprecision(12) << v;
+  return o.str();
+}
+} // namespace flextrack::io

@@ -1,0 +1,109 @@
+#include <base/input_error.h>
+#include <fem/body_model.h>
+#include <io/reduced_body_cache.h>
+#include <io/output_folder.h>
+#include <io/reduced_body_file.h>
+#include <reduction/component_modes.h>
+#include <reduction/reduced_body_builder.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <memory>
+
+namespace flextrack::io
+{
+using dealii::TimerOutput;
+
+namespace
+{
+/// The cached body in @p file if its input hash is @p hash; an unusable or stale file is reported.
+bool load_if_up_to_date(const std::string &file, const std::string &hash, reduction::ReducedBody &body,
+                        std::ostream &log)
+{
+  if (!std::filesystem::exists(file)) return false;
+  try
+    {
+      auto existing = read_reduced_body(file); // checks every shape and value, also of a cached file
+      if (existing.input_hash == hash)
+        {
+          body = std::move(existing);
+          return true;
+        }
+      log << "  inputs changed since " << file << " was written (hash " << existing.input_hash << "): recomputing\n";
+    }
+  catch (const InputError &e)
+    {
+      log << "  the existing " << file << " is unusable (" << e.message() << "): recomputing\n";
+    }
+  return false;
+}
+
+/// Largest relative difference of the reduced frequencies from the full model's, as JSON.
+JsonObject check_against_full_model(const fem::BodyModel &model, const reduction::ReductionSettings &settings,
+                                    const std::vector<double> &reduced, std::ostream &log)
+{
+  dealii::Timer timer;
+  const auto full = reduction::full_model_frequencies_hz(model, settings, settings.n_check_modes);
+  const double seconds = timer.wall_time();
+  double worst = 0;
+  for (unsigned int k = 0; k < full.size() && k < reduced.size(); ++k)
+    worst = std::max(worst, std::abs(reduced[k] - full[k]) / std::abs(full[k]));
+  log << "  check against the full model: " << full.size() << " lowest frequencies, largest relative difference "
+      << std::setprecision(3) << worst << " (full eigen solve " << seconds << " s)\n";
+  JsonObject check;
+  check.add("modes", static_cast<unsigned int>(full.size()))
+    .add("max_relative_frequency_difference", worst)
+    .add("full_model_frequencies_Hz", full)
+    .add("full_model_eigen_solve_wall_time_s", seconds);
+  return check;
+}
+} // namespace
+
+ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &file, std::ostream &log,
+                                    TimerOutput &timer)
+{
+  ObtainedBody result;
+  {
+    TimerOutput::Scope t(timer, "load cached reduced body");
+    result.from_cache = load_if_up_to_date(file, scene.input_hash, result.body, log);
+  }
+  if (result.from_cache)
+    {
+      log << "  reduced body is up to date: loaded " << file << " (same input hash), nothing recomputed\n";
+      return result;
+    }
+  try
+    {
+      std::unique_ptr<fem::BodyModel> model;
+      {
+        TimerOutput::Scope t(timer, "assemble body (K, M, ties)");
+        model = std::make_unique<fem::BodyModel>(scene.body);
+      }
+      log << "  body: " << model->n_full_dofs() << " dofs, " << model->n_dofs() << " after ties and supports ("
+          << (model->is_supported() ? "supported" : "free") << ")\n";
+      const auto basis = reduction::reduce(*model, scene.reduction, &timer);
+      {
+        TimerOutput::Scope t(timer, "invariants, mode fields, drawing");
+        result.body = reduction::make_reduced_body(*model, basis, scene.reduction.method_name());
+      }
+      if (scene.reduction.n_check_modes > 0)
+        {
+          TimerOutput::Scope t(timer, "check against the full model");
+          result.check = check_against_full_model(*model, scene.reduction, basis.frequencies_hz(), log);
+          result.checked = true;
+        }
+    }
+  catch (const InputError &e)
+    {
+      throw e.file().empty() ? e.in_file(scene.file) : e;
+    }
+  result.body.input_hash = scene.input_hash;
+  result.body.source = scene.file;
+  TimerOutput::Scope t(timer, "write reduced body");
+  if (const auto folder = std::filesystem::path(file).parent_path(); !folder.empty())
+    OutputFolder(folder.string()).create();
+  write_reduced_body(result.body, file);
+  return result;
+}
+} // namespace flextrack::io

@@ -1,0 +1,157 @@
+#include <base/input_error.h>
+#include <base/parse_error.h>
+#include <base/text.h>
+#include <fem/body.h>
+#include <io/scene_file.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace flextrack::io
+{
+using dealii::ParameterHandler;
+namespace fs = std::filesystem;
+
+namespace
+{
+constexpr std::uintmax_t max_text_bytes = 16u << 20;
+constexpr unsigned int max_include_depth = 8;
+constexpr unsigned int max_json_depth = 64;
+
+/// Pass 1 of every scene: the "Model" entry and the lists of names. One row per list, declared
+/// by the class that owns it.
+void declare_first_pass(ParameterHandler &prm)
+{
+  declare_model_entry(prm);
+  fem::Body::declare_arm_list(prm); // Body/Arms
+}
+
+std::string read_bytes(const std::string &file, const std::string &what)
+{
+  std::error_code ec;
+  if (fs::is_directory(file, ec))
+    throw InputError("", "is a folder, not a " + what + "; give a file", file);
+  if (!fs::exists(file, ec)) throw InputError("", "cannot open the " + what + ": no such file", file);
+  if (!fs::is_regular_file(file, ec))
+    throw InputError("", "is not a regular file (a device or a pipe?); give a " + what, file);
+  if (fs::file_size(file, ec) > max_text_bytes)
+    throw InputError("", "is larger than 16 MiB; a " + what + " is a short text", file);
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError("", "cannot open the " + what + " (permissions?)", file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// The text with every "include FILE" line replaced by that file's text (recursively, at most
+/// max_include_depth deep), so that a file including itself is refused instead of recursing.
+std::string expand_includes(const std::string &text, const std::string &name, const std::string &directory,
+                            const unsigned int depth)
+{
+  std::istringstream lines(text);
+  std::ostringstream out;
+  for (std::string line; std::getline(lines, line);)
+    {
+      const std::string t = base::trim(line);
+      if (t.rfind("include ", 0) != 0 && t.rfind("include\t", 0) != 0)
+        {
+          out << line << "\n";
+          continue;
+        }
+      if (depth >= max_include_depth)
+        throw InputError("include", "includes are nested more than " + std::to_string(max_include_depth) +
+                                      " deep (does a file include itself?)", name);
+      const fs::path target = fs::path(directory) / base::trim(t.substr(8));
+      const auto parent = target.parent_path().string();
+      out << expand_includes(read_bytes(target.string(), "included parameter file"), target.string(),
+                             parent.empty() ? "." : parent, depth + 1);
+    }
+  return out.str();
+}
+
+/// Deepest nesting of braces and brackets outside strings.
+unsigned int json_depth(const std::string &text)
+{
+  unsigned int depth = 0, deepest = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text)
+    {
+      if (in_string)
+        {
+          if (escaped) escaped = false;
+          else if (c == '\\') escaped = true;
+          else if (c == '"') in_string = false;
+          continue;
+        }
+      if (c == '"') in_string = true;
+      else if (c == '{' || c == '[') deepest = std::max(deepest, ++depth);
+      else if ((c == '}' || c == ']') && depth > 0) --depth;
+    }
+  return deepest;
+}
+} // namespace
+
+void declare_model_entry(ParameterHandler &prm)
+{
+  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid|body"),
+                    "The structure of the scene: 'arm' (a curved beam, subsection Arm), 'solid' (a 3D body "
+                    "meshed with hexahedra, subsection Solid) or 'body' (a flexible body of a solid part and "
+                    "named arms, subsection Body, reduced by 'flextrack reduce').");
+}
+
+void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const
+{
+  try
+    {
+      if (json)
+        {
+          std::istringstream in(text);
+          prm.parse_input_from_json(in, skip_undefined);
+        }
+      else
+        prm.parse_input_from_string(text, "", skip_undefined);
+    }
+  catch (const dealii::ExceptionBase &e)
+    {
+      throw InputError("", base::printable_excerpt(base::parse_error_text(e), 400), name);
+    }
+}
+
+SceneFile SceneFile::from_text(const std::string &text, const std::string &directory, const bool json)
+{
+  SceneFile scene;
+  scene.name = "<string>";
+  scene.directory = directory;
+  scene.json = json;
+  if (json)
+    {
+      if (json_depth(text) > max_json_depth)
+        throw InputError("", "JSON nested more than " + std::to_string(max_json_depth) + " deep", scene.name);
+      scene.text = text;
+    }
+  else
+    scene.text = expand_includes(text, scene.name, directory, 0);
+  scene.lists = std::make_shared<ParameterHandler>();
+  declare_first_pass(*scene.lists);
+  scene.parse(*scene.lists, true);
+  scene.model = scene.lists->get("Model");
+  return scene;
+}
+
+SceneFile SceneFile::read(const std::string &file)
+{
+  const auto parent = fs::path(file).parent_path().string();
+  const bool json = fs::path(file).extension() == ".json";
+  try
+    {
+      auto scene = from_text(read_bytes(file, "parameter file"), parent.empty() ? "." : parent, json);
+      scene.name = file;
+      return scene;
+    }
+  catch (const InputError &e)
+    {
+      throw e.file().empty() || e.file() == "<string>" ? e.in_file(file) : e;
+    }
+}
+} // namespace flextrack::io

@@ -1,0 +1,48 @@
+// A scene (parameter) file, read once and handed on as a parsed value.
+//
+// The two-pass pattern for named instances. A scene names its instances in lists (a body's
+// "Body/Arms = boom, brace"; later the bodies, joints, forces and probes of a multibody scene)
+// and describes each in a "subsection KIND NAME". deal.II's ParameterHandler must know every
+// subsection before it parses strictly, so:
+//   pass 1 (here, once per file): only the top-level "Model" entry and the lists of names are
+//          declared, everything else is skipped; the result is kept in SceneFile::lists;
+//   pass 2 (the scene reader of the model kind): declares every subsection, one per name, and
+//          parses the same text strictly (an unknown entry is an error).
+// A list is registered in one table (scene_file.cc) by the class that owns it, with its
+// declaration function, so pass 1 and pass 2 declare it identically.
+//
+// Text formats: deal.II's .prm syntax, or JSON for a file whose name ends in .json. Limits
+// (doc/user_guide.md): at most 16 MiB of text, "include" nested at most 8 deep (a file that
+// includes itself is refused), JSON nested at most 64 deep.
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace flextrack::io
+{
+struct SceneFile
+{
+  std::string name;      ///< as given (in messages)
+  std::string directory; ///< relative file names in the scene are taken from here
+  std::string text;      ///< the whole text, includes expanded
+  bool json = false;
+  std::string model;     ///< the "Model" entry: arm, solid or body
+  /// Pass 1: "Model" and every list of names (see scene_file.cc), parsed leniently.
+  std::shared_ptr<dealii::ParameterHandler> lists;
+
+  /// Reads @p file (InputError naming it if it cannot be read or parsed).
+  static SceneFile read(const std::string &file);
+  /// The same from text (tests); @p directory resolves relative file names.
+  static SceneFile from_text(const std::string &text, const std::string &directory = ".", bool json = false);
+
+  /// Parses the text into @p prm; deal.II's errors become InputError naming this file.
+  void parse(dealii::ParameterHandler &prm, bool skip_undefined) const;
+};
+
+/// Declares the one top-level "Model" entry (every scene kind).
+void declare_model_entry(dealii::ParameterHandler &prm);
+} // namespace flextrack::io
