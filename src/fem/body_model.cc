@@ -198,27 +198,89 @@ void BodyModel::check_spread(const std::vector<unsigned int> &region, const std:
                               " node(s), all on one line, so it cannot carry a rotation; enlarge the region");
 }
 
-void BodyModel::build_constraints()
+namespace
 {
-  // Full dof numbering: solid, arms, then 6 dofs per interface point on the solid.
-  std::vector<unsigned int> ref_node_of_interface(description.interfaces.size(), 0);
-  unsigned int n_with_refs = n_full;
-  for (unsigned int i = 0; i < description.interfaces.size(); ++i)
-    if (description.interfaces[i].arm.empty())
-      {
-        ref_node_of_interface[i] = n_with_refs;
-        n_with_refs += 6;
-      }
-  std::vector<unsigned int> ref_node_of_output(description.output_points.size(), 0);
-  for (unsigned int i = 0; i < description.output_points.size(); ++i)
-    if (description.output_points[i].arm.empty())
-      {
-        ref_node_of_output[i] = n_with_refs;
-        n_with_refs += 6;
-      }
-  n_full = n_with_refs;
+/// Rigid spider: every region node's displacement follows the master's rigid motion,
+/// u_n = u_m + theta_m x (x_n - x_m). A support (or an earlier tie) of a node wins.
+void add_rigid_spider(AffineConstraints<double> &c, const std::vector<BodyModel::Node> &nodes,
+                      const std::vector<unsigned int> &region, const std::array<unsigned int, 6> &master,
+                      const Point<3> &master_x)
+{
+  for (const auto n : region)
+    {
+      const Tensor<2, 3> C = cross_matrix_of_rotation(nodes[n].x - master_x);
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          const unsigned int slave = nodes[n].u[d];
+          if (c.is_constrained(slave)) continue;
+          c.add_line(slave);
+          c.add_entry(slave, master[d], 1.0);
+          for (unsigned int b = 0; b < 3; ++b)
+            if (C[d][b] != 0) c.add_entry(slave, master[3 + b], C[d][b]);
+        }
+    }
+}
 
-  AffineConstraints<double> c;
+/// Distributing coupling (RBE3-like): the 6 dofs of a point follow the region,
+/// u = mean(u_n) + theta x (x - x_c), theta = A^{-1} sum_n w (r_n x u_n),
+/// A = sum_n w (|r_n|^2 1 - r_n r_n^T), r_n = x_n - x_c. Adds no stiffness.
+void add_distributing_coupling(AffineConstraints<double> &c, const std::vector<BodyModel::Node> &nodes,
+                               const std::vector<unsigned int> &region, const std::array<unsigned int, 6> &point,
+                               const Point<3> &x_point)
+{
+  const double w = 1.0 / region.size();
+  Point<3> x_c;
+  for (const auto n : region) x_c += w * nodes[n].x;
+  Tensor<2, 3> A;
+  for (const auto n : region)
+    {
+      const Tensor<1, 3> r = nodes[n].x - x_c;
+      A += w * ((r * r) * unit_symmetric_tensor<3>() - outer_product(r, r));
+    }
+  const Tensor<2, 3> A_inv = invert(A);
+  const Tensor<2, 3> D = cross_matrix_of_rotation(x_point - x_c);
+  std::array<std::map<unsigned int, double>, 6> coefficient; // a dof can appear in several terms
+  for (const auto n : region)
+    {
+      // d theta / d u_n = w A^{-1} [r_n x]
+      const Tensor<1, 3> r = nodes[n].x - x_c;
+      const Tensor<2, 3> G = w * A_inv * (-cross_matrix_of_rotation(r));
+      for (unsigned int k = 0; k < 3; ++k) // component k of u_n
+        {
+          const unsigned int dof = nodes[n].u[k];
+          coefficient[k][dof] += w;
+          for (unsigned int b = 0; b < 3; ++b)
+            {
+              coefficient[3 + b][dof] += G[b][k];
+              for (unsigned int d = 0; d < 3; ++d) // (theta x (x_point - x_c))_d
+                coefficient[d][dof] += D[d][b] * G[b][k];
+            }
+        }
+    }
+  for (unsigned int d = 0; d < 6; ++d)
+    {
+      c.add_line(point[d]);
+      for (const auto &[dof, v] : coefficient[d])
+        if (v != 0) c.add_entry(point[d], dof, v);
+    }
+}
+} // namespace
+
+std::vector<unsigned int> BodyModel::number_reference_nodes(const std::vector<InterfacePoint> &points)
+{
+  // Points on the solid get 6 dofs of their own after the solid's and the arms'.
+  std::vector<unsigned int> first_dof(points.size(), 0);
+  for (unsigned int i = 0; i < points.size(); ++i)
+    if (points[i].arm.empty())
+      {
+        first_dof[i] = n_full;
+        n_full += 6;
+      }
+  return first_dof;
+}
+
+void BodyModel::add_supports(AffineConstraints<double> &c) const
+{
   auto fix = [&](const unsigned int dof) {
     if (!c.is_constrained(dof)) c.add_line(dof);
   };
@@ -226,68 +288,10 @@ void BodyModel::build_constraints()
     for (const auto &line : solid->constraints().get_lines()) fix(line.index);
   for (unsigned int a = 0; a < arm_models.size(); ++a)
     for (const auto &line : arm_models[a]->constraints().get_lines()) fix(arm_offsets[a] + line.index);
-  supported = c.n_constraints() > 0;
+}
 
-  // Rigid spider: every region node's displacement follows the master's rigid motion.
-  auto rigid = [&](const std::vector<unsigned int> &region, const std::array<unsigned int, 6> &master,
-                   const Point<3> &master_x) {
-    for (const auto n : region)
-      {
-        const Tensor<2, 3> C = cross_matrix_of_rotation(nodes[n].x - master_x);
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            const unsigned int slave = nodes[n].u[d];
-            if (c.is_constrained(slave)) continue; // a support (or an earlier tie) wins
-            c.add_line(slave);
-            c.add_entry(slave, master[d], 1.0);
-            for (unsigned int b = 0; b < 3; ++b)
-              if (C[d][b] != 0) c.add_entry(slave, master[3 + b], C[d][b]);
-          }
-      }
-  };
-
-  // Distributing coupling (RBE3-like): the 6 dofs of a point follow the region,
-  // u = mean(u_n) + theta x (x - x_c), theta = A^{-1} sum_n w (r_n x u_n),
-  // A = sum_n w (|r_n|^2 1 - r_n r_n^T), r_n = x_n - x_c. Adds no stiffness.
-  auto distributing = [&](const std::vector<unsigned int> &region, const std::array<unsigned int, 6> &point,
-                          const Point<3> &x_point) {
-    const double w = 1.0 / region.size();
-    Point<3> x_c;
-    for (const auto n : region) x_c += w * nodes[n].x;
-    Tensor<2, 3> A;
-    for (const auto n : region)
-      {
-        const Tensor<1, 3> r = nodes[n].x - x_c;
-        A += w * ((r * r) * unit_symmetric_tensor<3>() - outer_product(r, r));
-      }
-    const Tensor<2, 3> A_inv = invert(A);
-    const Tensor<2, 3> D = cross_matrix_of_rotation(x_point - x_c);
-    std::array<std::map<unsigned int, double>, 6> coefficient; // a dof can appear in several terms
-    for (const auto n : region)
-      {
-        // d theta / d u_n = w A^{-1} [r_n x]
-        const Tensor<1, 3> r = nodes[n].x - x_c;
-        const Tensor<2, 3> G = w * A_inv * (-cross_matrix_of_rotation(r));
-        for (unsigned int k = 0; k < 3; ++k) // component k of u_n
-          {
-            const unsigned int dof = nodes[n].u[k];
-            coefficient[k][dof] += w;
-            for (unsigned int b = 0; b < 3; ++b)
-              {
-                coefficient[3 + b][dof] += G[b][k];
-                for (unsigned int d = 0; d < 3; ++d) // (theta x (x_point - x_c))_d
-                  coefficient[d][dof] += D[d][b] * G[b][k];
-              }
-          }
-      }
-    for (unsigned int d = 0; d < 6; ++d)
-      {
-        c.add_line(point[d]);
-        for (const auto &[dof, v] : coefficient[d])
-          if (v != 0) c.add_entry(point[d], dof, v);
-      }
-  };
-
+void BodyModel::add_ties(AffineConstraints<double> &c) const
+{
   for (const auto &tie : description.ties)
     {
       const unsigned int a = description.arm_index(tie.arm);
@@ -297,15 +301,18 @@ void BodyModel::build_constraints()
       const auto region = region_nodes(tie.region, x_root, "Body/Ties", what);
       if (tie.kind == TieKind::rigid)
         {
-          rigid(region, root, x_root);
+          add_rigid_spider(c, nodes, region, root, x_root);
           continue;
         }
       for (unsigned int d = 0; d < 6; ++d)
         if (c.is_constrained(root[d]))
           throw InputError("Body/Ties", what + ": the arm root is supported; a distributing tie needs it free");
-      distributing(region, root, x_root);
+      add_distributing_coupling(c, nodes, region, root, x_root);
     }
+}
 
+void BodyModel::add_interfaces(AffineConstraints<double> &c, const std::vector<unsigned int> &first_dof)
+{
   for (unsigned int i = 0; i < description.interfaces.size(); ++i)
     {
       const auto &p = description.interfaces[i];
@@ -319,10 +326,10 @@ void BodyModel::build_constraints()
         }
       else
         {
-          for (unsigned int d = 0; d < 6; ++d) dofs[d] = ref_node_of_interface[i] + d;
+          for (unsigned int d = 0; d < 6; ++d) dofs[d] = first_dof[i] + d;
           x = p.position;
           const std::string what = "interface '" + p.name + "' at " + point_text(x);
-          rigid(region_nodes(p.region, x, "Body/Interfaces", what), dofs, x);
+          add_rigid_spider(c, nodes, region_nodes(p.region, x, "Body/Interfaces", what), dofs, x);
           Node n;
           n.x = x;
           for (unsigned int d = 0; d < 3; ++d)
@@ -340,6 +347,10 @@ void BodyModel::build_constraints()
       interface_full_dofs.push_back(dofs);
       interface_list.push_back({p.name, x, {}});
     }
+}
+
+void BodyModel::add_output_points(AffineConstraints<double> &c, const std::vector<unsigned int> &first_dof)
+{
   for (unsigned int i = 0; i < description.output_points.size(); ++i)
     {
       const auto &p = description.output_points[i];
@@ -352,13 +363,18 @@ void BodyModel::build_constraints()
         }
       else
         {
-          for (unsigned int d = 0; d < 6; ++d) o.full_dofs[d] = ref_node_of_output[i] + d;
-          distributing(region_nodes(p.region, p.position, "Body/Output points",
-                                    "output point '" + p.name + "' at " + point_text(p.position)),
-                       o.full_dofs, p.position);
+          for (unsigned int d = 0; d < 6; ++d) o.full_dofs[d] = first_dof[i] + d;
+          add_distributing_coupling(c, nodes,
+                                    region_nodes(p.region, p.position, "Body/Output points",
+                                                 "output point '" + p.name + "' at " + point_text(p.position)),
+                                    o.full_dofs, p.position);
         }
       output_list.push_back(o);
     }
+}
+
+void BodyModel::add_point_masses()
+{
   for (const auto &m : description.point_masses)
     {
       const auto &dofs = interface_full_dofs[description.interface_index(m.interface)];
@@ -369,8 +385,10 @@ void BodyModel::build_constraints()
             if (m.inertia[d][e] != 0) point_mass_entries.push_back({{{dofs[3 + d], dofs[3 + e]}}, m.inertia[d][e]});
         }
     }
-  c.close();
+}
 
+void BodyModel::build_transformation(const AffineConstraints<double> &c)
+{
   // T: the independent dofs, numbered in order, and every full dof as their combination.
   std::vector<int> column(n_full, -1);
   for (unsigned int i = 0; i < n_full; ++i)
@@ -391,6 +409,22 @@ void BodyModel::build_constraints()
     }
   for (unsigned int i = 0; i < interface_list.size(); ++i)
     for (unsigned int d = 0; d < 6; ++d) interface_list[i].dofs[d] = column[interface_full_dofs[i][d]];
+}
+
+void BodyModel::build_constraints()
+{
+  // Full dof numbering: solid, arms, then 6 dofs per interface point and output point on the solid.
+  const auto interface_dofs = number_reference_nodes(description.interfaces);
+  const auto output_dofs = number_reference_nodes(description.output_points);
+  AffineConstraints<double> c;
+  add_supports(c);
+  supported = c.n_constraints() > 0;
+  add_ties(c);
+  add_interfaces(c, interface_dofs);
+  add_output_points(c, output_dofs);
+  add_point_masses();
+  c.close();
+  build_transformation(c);
 }
 
 void BodyModel::condense_matrices()

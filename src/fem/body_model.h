@@ -17,6 +17,7 @@
 #include <fem/curved_beam_model.h>
 #include <fem/solid_model.h>
 
+#include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
@@ -104,7 +105,16 @@ private:
     double value;
   };
   void collect_nodes();
+  // The constraints x = T y of supports, ties, interfaces and output points, in these steps:
   void build_constraints();
+  /// First of the 6 dofs of each point on the solid (0 for points on arms); extends n_full.
+  std::vector<unsigned int> number_reference_nodes(const std::vector<InterfacePoint> &points);
+  void add_supports(dealii::AffineConstraints<double> &c) const;
+  void add_ties(dealii::AffineConstraints<double> &c) const;
+  void add_interfaces(dealii::AffineConstraints<double> &c, const std::vector<unsigned int> &first_dof);
+  void add_output_points(dealii::AffineConstraints<double> &c, const std::vector<unsigned int> &first_dof);
+  void add_point_masses();
+  void build_transformation(const dealii::AffineConstraints<double> &c);
   void condense_matrices();
   std::vector<unsigned int> region_nodes(const NodeRegion &region, const dealii::Point<3> &centre,
                                          const std::string &entry, const std::string &what) const;
