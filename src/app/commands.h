@@ -6,6 +6,7 @@
 
 #include <deal.II/base/timer.h>
 
+#include <sstream>
 #include <string>
 
 namespace flextrack::app
@@ -33,6 +34,14 @@ int inspect_command(const Options &options);
 /// Every parameter with its default, allowed values, unit and documentation.
 int print_parameters_command();
 
+/// The wall clock of a command and the timer of its stages (summarised at the end).
+struct CommandClock
+{
+  dealii::Timer wall;
+  std::ostringstream log;
+  dealii::TimerOutput timer{log, dealii::TimerOutput::never, dealii::TimerOutput::wall_times};
+};
+
 /// "  wall time [s]:  stage t; ...  total T" and the peak memory, on stdout.
-void print_timings(const dealii::TimerOutput &timer, const dealii::Timer &wall);
+void print_timings(const CommandClock &clock);
 } // namespace flextrack::app

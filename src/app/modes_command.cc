@@ -112,6 +112,14 @@ std::string gnuplot_single_quoted(const std::string &text)
   return quoted;
 }
 
+/// The arm or solid scene of @p file, parsed into @p prm (kept for parameters_used.prm), timed.
+io::ArmScene read_scene(const io::SceneFile &file, ParameterHandler &prm, TimerOutput &timer)
+{
+  TimerOutput::Scope t(timer, "read parameters and geometry");
+  io::declare_arm_scene(prm);
+  return io::read_arm_scene(file, prm);
+}
+
 std::string describe(const io::ArmScene &scene)
 {
   std::ostringstream d;
@@ -132,16 +140,10 @@ std::string describe(const io::ArmScene &scene)
 
 int modes_command(const Options &options, const io::SceneFile &file)
 {
-  Timer wall;
-  std::ostringstream log;
-  TimerOutput timer(log, TimerOutput::never, TimerOutput::wall_times);
+  CommandClock clock;
+  auto &timer = clock.timer;
   ParameterHandler prm;
-  io::declare_arm_scene(prm);
-  io::ArmScene scene;
-  {
-    TimerOutput::Scope t(timer, "read parameters and geometry");
-    scene = io::read_arm_scene(file, prm);
-  }
+  const io::ArmScene scene = read_scene(file, prm, timer);
   std::cout << "flextrack modes: " << options.file << "\n  " << describe(scene) << std::endl;
 
   Model model;
@@ -174,7 +176,7 @@ int modes_command(const Options &options, const io::SceneFile &file)
     .add("frequencies_Hz", f)
     .add("eigenvalues_rad2_per_s2", run.modes.eigenvalues)
     .add("wall_time_s", io::timings_json(timer))
-    .add("total_wall_time_s", wall.wall_time())
+    .add("total_wall_time_s", clock.wall.wall_time())
     .add("peak_memory_MiB", io::peak_memory_mib())
     .raw("parameters", io::parameters_as_json(prm));
   out.add_summary(summary);
@@ -184,7 +186,7 @@ int modes_command(const Options &options, const io::SceneFile &file)
             << "  mode  frequency [Hz]\n";
   for (std::size_t k = 0; k < f.size(); ++k)
     std::cout << "  " << std::setw(4) << k + 1 << "  " << std::setprecision(10) << f[k] << "\n";
-  print_timings(timer, wall);
+  print_timings(clock);
   std::cout << "  results in " << out.path() << "/ (frequencies.csv, summary.json"
             << (scene.output.mode_shapes ? ", mode_shapes.pvd" : "") << ")" << std::endl;
   return 0;
@@ -192,16 +194,10 @@ int modes_command(const Options &options, const io::SceneFile &file)
 
 int converge_command(const Options &options, const io::SceneFile &file)
 {
-  Timer wall;
-  std::ostringstream log;
-  TimerOutput timer(log, TimerOutput::never, TimerOutput::wall_times);
+  CommandClock clock;
+  auto &timer = clock.timer;
   ParameterHandler prm;
-  io::declare_arm_scene(prm);
-  io::ArmScene scene;
-  {
-    TimerOutput::Scope t(timer, "read parameters and geometry");
-    scene = io::read_arm_scene(file, prm);
-  }
+  const io::ArmScene scene = read_scene(file, prm, timer);
   const unsigned int K = options.refinements;
   std::cout << "flextrack converge: " << options.file << ", " << K << " refinements of\n  " << describe(scene)
             << std::endl;
@@ -278,7 +274,7 @@ int converge_command(const Options &options, const io::SceneFile &file)
     }
   summary.raw("levels", level_list + "]")
     .add("wall_time_s", io::timings_json(timer))
-    .add("total_wall_time_s", wall.wall_time())
+    .add("total_wall_time_s", clock.wall.wall_time())
     .add("peak_memory_MiB", io::peak_memory_mib())
     .raw("parameters", io::parameters_as_json(prm));
   out.add_summary(summary);
@@ -287,7 +283,7 @@ int converge_command(const Options &options, const io::SceneFile &file)
   const bool plotted = io::is_first_process() && base::run_program({"gnuplot", "convergence.gp"}, out.path()) == 0;
   std::cout << "\n  results in " << out.path() << "/ (convergence.csv, summary.json"
             << (plotted ? ", convergence.png" : "; gnuplot not found, no plot") << ")\n  total wall time "
-            << wall.wall_time() << " s" << std::endl;
+            << clock.wall.wall_time() << " s" << std::endl;
   return 0;
 }
 

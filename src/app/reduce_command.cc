@@ -46,9 +46,8 @@ void print_reduced_body(const reduction::ReducedBody &b)
 
 int reduce_command(const Options &options, const io::SceneFile &file)
 {
-  Timer wall;
-  std::ostringstream log;
-  TimerOutput timer(log, TimerOutput::never, TimerOutput::wall_times);
+  CommandClock clock;
+  auto &timer = clock.timer;
   io::BodyScene scene;
   {
     TimerOutput::Scope t(timer, "read parameters and geometry");
@@ -82,7 +81,7 @@ int reduce_command(const Options &options, const io::SceneFile &file)
     .add("mass_kg", body.invariants.mass)
     .raw("check_against_full_model", obtained.checked ? obtained.check.str(4) : "null")
     .add("wall_time_s", io::timings_json(timer))
-    .add("total_wall_time_s", wall.wall_time())
+    .add("total_wall_time_s", clock.wall.wall_time())
     .add("peak_memory_MiB", io::peak_memory_mib())
     .raw("parameters", io::parameters_as_json(*scene.parameters));
   out.add_summary(summary);
@@ -90,7 +89,7 @@ int reduce_command(const Options &options, const io::SceneFile &file)
 
   print_reduced_body(body);
   std::cout << "\n";
-  print_timings(timer, wall);
+  print_timings(clock);
   std::cout << "  results in " << out.path() << "/ (reduced_body.h5, frequencies.csv, summary.json";
   for (const auto &f : exported) std::cout << ", " << f;
   std::cout << ")" << std::endl;
@@ -106,12 +105,12 @@ int inspect_command(const Options &options)
   return 0;
 }
 
-void print_timings(const TimerOutput &timer, const Timer &wall)
+void print_timings(const CommandClock &clock)
 {
   std::cout << "  wall time [s]:";
-  for (const auto &[name, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))
+  for (const auto &[name, seconds] : clock.timer.get_summary_data(TimerOutput::total_wall_time))
     std::cout << "  " << name << " " << std::setprecision(3) << seconds << ";";
-  std::cout << "  total " << wall.wall_time() << "\n  peak memory: " << std::setprecision(4) << io::peak_memory_mib()
+  std::cout << "  total " << clock.wall.wall_time() << "\n  peak memory: " << std::setprecision(4) << io::peak_memory_mib()
             << " MiB\n";
 }
 } // namespace flextrack::app
