@@ -1,0 +1,140 @@
+// The generic joint: constraint rows, their gradients w.r.t. the markers' positions and axes,
+// and the chain rule through the marker Jacobians (see generic_joint.h).
+#include <base/input_error.h>
+#include <multibody/generic_joint.h>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+
+namespace
+{
+const char *axis_name[] = {"x", "y", "z"};
+}
+
+GenericJoint::GenericJoint(std::string name, std::unique_ptr<Marker> follower, std::unique_ptr<Marker> base,
+                           const JointMask &mask, const DriverKind driver_kind,
+                           std::shared_ptr<const geometry::Expression> driver_law)
+  : Joint(std::move(name)), driver(driver_kind), law(std::move(driver_law))
+{
+  markers[0] = std::move(follower);
+  markers[1] = std::move(base);
+  if (driver == DriverKind::angle && mask.rotation[2])
+    throw InputError("Joint " + this->name() + "/Driver", "an angle driver needs the rotation about z to be free");
+  if (driver == DriverKind::displacement && mask.translation[2])
+    throw InputError("Joint " + this->name() + "/Driver", "a displacement driver needs the translation along z to be free");
+  if (driver != DriverKind::none && !law) throw InputError("Joint " + this->name() + "/Driver", "needs an expression of t");
+  for (unsigned int a = 0; a < 3; ++a)
+    if (mask.translation[a]) rows.push_back({RowKind::translation, a, 0, false, std::string("translation along ") + axis_name[a]});
+  if (driver == DriverKind::displacement)
+    rows.push_back({RowKind::translation, 2, 0, true, "driven displacement along z"});
+
+  const unsigned int n_locked = mask.rotation[0] + mask.rotation[1] + mask.rotation[2];
+  if (n_locked == 3)
+    {
+      rows.push_back({RowKind::rotation, 2, 0, false, "rotation about y (e1_z . e2_x)"});
+      rows.push_back({RowKind::rotation, 2, 1, false, "rotation about x (e1_z . e2_y)"});
+      rows.push_back({RowKind::rotation, 0, 1, false, "rotation about z (e1_x . e2_y)"});
+    }
+  else if (n_locked == 2)
+    {
+      const unsigned int c = !mask.rotation[0] ? 0 : !mask.rotation[1] ? 1 : 2, a = (c + 1) % 3, b = (c + 2) % 3;
+      rows.push_back({RowKind::rotation, c, a, false,
+                      std::string("rotation about ") + axis_name[b] + " (e1_" + axis_name[c] + " . e2_" + axis_name[a] + ")"});
+      rows.push_back({RowKind::rotation, c, b, false,
+                      std::string("rotation about ") + axis_name[a] + " (e1_" + axis_name[c] + " . e2_" + axis_name[b] + ")"});
+    }
+  else if (n_locked == 1)
+    {
+      const unsigned int c = mask.rotation[0] ? 0 : mask.rotation[1] ? 1 : 2, a = (c + 1) % 3, b = (c + 2) % 3;
+      rows.push_back({RowKind::rotation, a, b, false,
+                      std::string("rotation about ") + axis_name[c] + " (e1_" + axis_name[a] + " . e2_" + axis_name[b] + ")"});
+    }
+  if (driver == DriverKind::angle) rows.push_back({RowKind::angle, 0, 0, false, "driven angle about z"});
+}
+
+void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const double t, Local &l, Vector<double> &phi,
+                                 Vector<double> &phi_t) const
+{
+  for (unsigned int m = 0; m < 2; ++m) markers[m]->evaluate(q[m], nullptr, l.k[m]);
+  const MarkerKinematics &ki = l.k[0], &kj = l.k[1];
+  const Vector3 d = ki.position - kj.position;
+  phi.reinit(rows.size());
+  phi_t.reinit(rows.size());
+  l.grad.assign(rows.size(), Gradient());
+  geometry::Jet s;
+  if (law) s = law->jet(t);
+  for (unsigned int r = 0; r < rows.size(); ++r)
+    {
+      const Row &row = rows[r];
+      Gradient &g = l.grad[r];
+      switch (row.kind)
+        {
+          case RowKind::translation:
+            phi[r] = kj.axes[row.a] * d - (row.driven ? s.value() : 0.0);
+            phi_t[r] = row.driven ? -s.derivative(1) : 0.0;
+            g[0] = kj.axes[row.a];
+            g[4] = -kj.axes[row.a];
+            g[5 + row.a] = d;
+            break;
+          case RowKind::rotation:
+            phi[r] = ki.axes[row.a] * kj.axes[row.b];
+            g[1 + row.a] = kj.axes[row.b];
+            g[5 + row.b] = ki.axes[row.a];
+            break;
+          case RowKind::angle:
+            {
+              const double c = std::cos(s.value()), sn = std::sin(s.value());
+              const Vector3 target = -sn * kj.axes[0] + c * kj.axes[1];
+              phi[r] = ki.axes[0] * target;
+              phi_t[r] = -(ki.axes[0] * (c * kj.axes[0] + sn * kj.axes[1])) * s.derivative(1);
+              g[1] = target;
+              g[5] = -sn * ki.axes[0];
+              g[6] = c * ki.axes[0];
+              break;
+            }
+        }
+    }
+}
+
+void GenericJoint::evaluate(const std::vector<const double *> &q, const double *, const double t, JointEvaluation &e) const
+{
+  Local l;
+  evaluate_rows(q, t, l, e.phi, e.phi_t);
+  e.B.resize(2);
+  for (unsigned int m = 0; m < 2; ++m)
+    {
+      const MarkerKinematics &k = l.k[m];
+      const unsigned int nv = k.J_position.n();
+      e.B[m].reinit(rows.size(), nv);
+      for (unsigned int r = 0; r < rows.size(); ++r)
+        for (unsigned int c = 0; c < nv; ++c)
+          {
+            double v = 0;
+            for (unsigned int a = 0; a < 3; ++a)
+              {
+                v += l.grad[r][4 * m][a] * k.J_position(a, c);
+                for (unsigned int x = 0; x < 3; ++x) v += l.grad[r][4 * m + 1 + x][a] * k.J_axes[x](a, c);
+              }
+            e.B[m](r, c) = v;
+          }
+    }
+  e.B_own.reinit(rows.size(), 0);
+}
+
+void GenericJoint::reaction(const std::vector<const double *> &q, const double *, const double t, const double *lambda, Vector3 &force,
+                            Vector3 &torque) const
+{
+  // Generalised constraint force -B^T lambda = J_r^T F + J_w^T T at the follower marker, with
+  // F = -sum lambda dPhi/dr_i and T = -sum lambda sum_a e_a x dPhi/de_a (e_a' = omega x e_a).
+  Local l;
+  Vector<double> phi, phi_t;
+  evaluate_rows(q, t, l, phi, phi_t);
+  force = torque = Vector3();
+  for (unsigned int r = 0; r < rows.size(); ++r)
+    {
+      force -= lambda[r] * l.grad[r][0];
+      for (unsigned int a = 0; a < 3; ++a) torque -= lambda[r] * cross_product_3d(l.k[0].axes[a], l.grad[r][1 + a]);
+    }
+}
+} // namespace flextrack::multibody

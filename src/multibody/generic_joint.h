@@ -1,0 +1,73 @@
+// The generic joint between two markers: constrained-axis masks in the frame of the second
+// marker (the base, axes e_j) acting on the first (the follower, axes e_i, origin r_i):
+//   translation along a:   e_j,a . (r_i - r_j) - s(t) = 0        (s = 0 unless driven along z)
+//   rotations locked:      all three  e_i,z.e_j,x, e_i,z.e_j,y, e_i,x.e_j,y   (= th_y, -th_x, th_z)
+//                          two (a, b; c free)  e_i,c.e_j,a, e_i,c.e_j,b       (axis c stays aligned)
+//                          one (c)  e_i,a.e_j,b                              (the cross of a universal)
+//   driven angle about z:  e_i,x . (-sin th(t) e_j,x + cos th(t) e_j,y) = 0   (= sin(angle - th))
+// Each row is a function of the 24 marker quantities x = (r_i, e_i,1..3, r_j, e_j,1..3); its
+// gradient times the markers' Jacobians gives B, and the same gradient gives the reactions.
+// Fixed, revolute, spherical, prismatic, cylindrical, universal, planar and point-in-plane are
+// masks (joint_table.cc).
+#pragma once
+
+#include <geometry/expression.h>
+#include <multibody/joint.h>
+
+#include <array>
+#include <memory>
+
+namespace flextrack::multibody
+{
+struct JointMask
+{
+  std::array<bool, 3> translation{{true, true, true}}; ///< constrained translations (base axes)
+  std::array<bool, 3> rotation{{true, true, true}};    ///< locked rotations (base axes)
+};
+
+enum class DriverKind { none, angle, displacement };
+
+class GenericJoint : public Joint
+{
+public:
+  /// @p follower on the first body, @p base on the second. A driver prescribes the angle [rad]
+  /// about z (rotation about z must then be free) or the displacement [m] along z (translation
+  /// along z free) as @p driver(t), measured from the initial coincidence of the markers.
+  GenericJoint(std::string name, std::unique_ptr<Marker> follower, std::unique_ptr<Marker> base, const JointMask &mask,
+               DriverKind driver = DriverKind::none, std::shared_ptr<const geometry::Expression> law = nullptr);
+
+  unsigned int n_equations() const override { return rows.size(); }
+  std::vector<const Body *> bodies() const override { return {&markers[0]->body(), &markers[1]->body()}; }
+  void evaluate(const std::vector<const double *> &q, const double *own_q, double t, JointEvaluation &e) const override;
+  std::string equation_name(unsigned int k) const override { return rows[k].name; }
+  bool is_driver_equation(unsigned int k) const override { return rows[k].kind == RowKind::angle || rows[k].driven; }
+  void reaction(const std::vector<const double *> &q, const double *own_q, double t, const double *lambda, Vector3 &force,
+                Vector3 &torque) const override;
+
+  const Marker &marker(unsigned int i) const { return *markers[i]; }
+
+private:
+  enum class RowKind { translation, rotation, angle };
+  struct Row
+  {
+    RowKind kind;
+    unsigned int a = 0, b = 0; // translation: axis a; rotation: e_i,a . e_j,b
+    bool driven = false;       // translation with s(t)
+    std::string name;
+  };
+  /// Gradient of row values w.r.t. x = (r_i, e_i[3], r_j, e_j[3]): 8 vectors per row.
+  using Gradient = std::array<Vector3, 8>;
+  struct Local
+  {
+    MarkerKinematics k[2];
+    std::vector<Gradient> grad;
+  };
+  void evaluate_rows(const std::vector<const double *> &q, double t, Local &l, dealii::Vector<double> &phi,
+                     dealii::Vector<double> &phi_t) const;
+
+  std::unique_ptr<Marker> markers[2];
+  std::vector<Row> rows;
+  DriverKind driver;
+  std::shared_ptr<const geometry::Expression> law;
+};
+} // namespace flextrack::multibody

@@ -1,0 +1,320 @@
+// SUNDIALS IDA on the system's DAE, with our Jacobian and KLU solver (ida_integrator.h).
+#include <multibody/ida_integrator.h>
+
+#include <ida/ida.h>
+#include <ida/ida_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <iomanip>
+#include <sstream>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+
+namespace
+{
+void to_vector(N_Vector v, Vector<double> &out)
+{
+  const auto n = N_VGetLength(v);
+  out.reinit(n, true);
+  std::memcpy(out.data(), N_VGetArrayPointer(v), n * sizeof(double));
+}
+
+void from_vector(const Vector<double> &in, N_Vector v) { std::memcpy(N_VGetArrayPointer(v), in.data(), in.size() * sizeof(double)); }
+} // namespace
+
+struct IdaIntegrator::Sundials
+{
+  SUNContext context = nullptr;
+  void *ida = nullptr;
+  N_Vector y = nullptr, yp = nullptr, id = nullptr;
+  SUNMatrix matrix = nullptr;
+  SUNLinearSolver solver = nullptr;
+
+  ~Sundials()
+  {
+    if (ida) IDAFree(&ida);
+    if (solver) SUNLinSolFreeEmpty(solver);
+    if (matrix) SUNMatFreeEmpty(matrix);
+    for (N_Vector v : {y, yp, id})
+      if (v) N_VDestroy(v);
+    if (context) SUNContext_Free(&context);
+  }
+};
+
+/// The C callbacks; user data is the IdaIntegrator.
+struct IdaCallbacks
+{
+  static int residual(realtype t, N_Vector y, N_Vector yp, N_Vector r, void *data)
+  {
+    auto *self = static_cast<IdaIntegrator *>(data);
+    Vector<double> yy, yyp, F;
+    to_vector(y, yy);
+    to_vector(yp, yyp);
+    try
+      {
+        self->system.residual(t, yy, yyp, F);
+      }
+    catch (const std::exception &e)
+      {
+        self->last_message = e.what();
+        return 1; // recoverable: IDA cuts the step
+      }
+    for (unsigned int i = 0; i < F.size(); ++i)
+      if (!std::isfinite(F[i])) return 1;
+    from_vector(F, r);
+    return 0;
+  }
+
+  static int jacobian(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vector, SUNMatrix, void *data, N_Vector,
+                      N_Vector, N_Vector)
+  {
+    auto *self = static_cast<IdaIntegrator *>(data);
+    Vector<double> yy, yyp;
+    to_vector(y, yy);
+    to_vector(yp, yyp);
+    try
+      {
+        self->system.assemble_jacobian(t, cj, yy, yyp);
+      }
+    catch (const std::exception &e)
+      {
+        self->last_message = e.what();
+        return 1;
+      }
+    return 0;
+  }
+
+  static int roots(realtype t, N_Vector y, N_Vector yp, realtype *g, void *data)
+  {
+    auto *self = static_cast<IdaIntegrator *>(data);
+    Vector<double> yy, yyp;
+    to_vector(y, yy);
+    to_vector(yp, yyp);
+    self->root_function(t, yy, yyp, g);
+    return 0;
+  }
+
+  static void error_handler(int, const char *module, const char *function, char *message, void *data)
+  {
+    static_cast<IdaIntegrator *>(data)->last_message = std::string(module) + "/" + function + ": " + message;
+  }
+
+  // The linear solver: setup = KLU factorisation, solve = KLU solve.
+  static SUNLinearSolver_Type ls_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
+  static SUNLinearSolver_ID ls_id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
+  static int ls_setup(SUNLinearSolver ls, SUNMatrix)
+  {
+    auto *self = static_cast<IdaIntegrator *>(ls->content);
+    return self->system.factorize() ? SUNLS_SUCCESS : SUNLS_LUFACT_FAIL;
+  }
+  static int ls_solve(SUNLinearSolver ls, SUNMatrix, N_Vector x, N_Vector b, realtype)
+  {
+    auto *self = static_cast<IdaIntegrator *>(ls->content);
+    self->system.solve(N_VGetArrayPointer(b), N_VGetArrayPointer(x));
+    for (sunindextype i = 0; i < N_VGetLength(x); ++i)
+      if (!std::isfinite(N_VGetArrayPointer(x)[i])) return SUNLS_PACKAGE_FAIL_REC;
+    return SUNLS_SUCCESS;
+  }
+  static int ls_free(SUNLinearSolver) { return 0; } // freed with the Sundials struct
+  static SUNMatrix_ID matrix_id(SUNMatrix) { return SUNMATRIX_CUSTOM; }
+  static int matrix_zero(SUNMatrix) { return 0; } // the Jacobian function overwrites everything
+};
+
+// ---------------------------------------------------------------------------------------------
+void IntegratorSettings::declare_parameters(ParameterHandler &prm)
+{
+  prm.declare_entry("Relative tolerance", "1e-6", Patterns::Double(0), "IDA's relative tolerance [-].");
+  prm.declare_entry("Absolute tolerance", "1e-8", Patterns::Double(0),
+                    "IDA's absolute tolerance, the same for every unknown [m, rad, modal units, and per s].");
+  prm.declare_entry("Maximum order", "5", Patterns::Integer(1, 5), "Largest BDF order IDA may use [-].");
+  prm.declare_entry("Maximum step", "0", Patterns::Double(0), "Largest time step [s]; 0: no limit.");
+  prm.declare_entry("Initial step", "0", Patterns::Double(0), "First time step [s]; 0: IDA's estimate.");
+  prm.declare_entry("Maximum steps", "1000000", Patterns::Integer(1), "Internal steps allowed per run [-].");
+}
+
+void IntegratorSettings::parse_parameters(ParameterHandler &prm)
+{
+  relative_tolerance = prm.get_double("Relative tolerance");
+  absolute_tolerance = prm.get_double("Absolute tolerance");
+  max_order = prm.get_integer("Maximum order");
+  max_step = prm.get_double("Maximum step");
+  initial_step = prm.get_double("Initial step");
+  max_steps = prm.get_integer("Maximum steps");
+}
+
+// ---------------------------------------------------------------------------------------------
+IdaIntegrator::IdaIntegrator(System &s, const IntegratorSettings &settings_)
+  : sun(std::make_unique<Sundials>()), system(s), settings(settings_)
+{}
+
+IdaIntegrator::~IdaIntegrator() = default;
+
+void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
+{
+  sun = std::make_unique<Sundials>();
+  const sunindextype n = system.size();
+  if (SUNContext_Create(nullptr, &sun->context) != 0) throw SolverError("SUNDIALS: cannot create a context");
+  sun->y = N_VNew_Serial(n, sun->context);
+  sun->yp = N_VNew_Serial(n, sun->context);
+  sun->id = N_VNew_Serial(n, sun->context);
+  from_vector(y, sun->y);
+  from_vector(yp, sun->yp);
+  Vector<double> id;
+  system.differential_components(id);
+  from_vector(id, sun->id);
+
+  sun->ida = IDACreate(sun->context);
+  IDASetErrHandlerFn(sun->ida, IdaCallbacks::error_handler, this);
+  IDAInit(sun->ida, IdaCallbacks::residual, t0, sun->y, sun->yp);
+  IDASetUserData(sun->ida, this);
+  IDASStolerances(sun->ida, settings.relative_tolerance, settings.absolute_tolerance);
+  IDASetId(sun->ida, sun->id);
+  IDASetSuppressAlg(sun->ida, SUNTRUE);
+  IDASetMaxOrd(sun->ida, settings.max_order);
+  IDASetMaxNumSteps(sun->ida, settings.max_steps);
+  if (settings.max_step > 0) IDASetMaxStep(sun->ida, settings.max_step);
+  if (settings.initial_step > 0) IDASetInitStep(sun->ida, settings.initial_step);
+
+  sun->matrix = SUNMatNewEmpty(sun->context);
+  sun->matrix->ops->getid = IdaCallbacks::matrix_id;
+  sun->matrix->ops->zero = IdaCallbacks::matrix_zero;
+  sun->solver = SUNLinSolNewEmpty(sun->context);
+  sun->solver->content = this;
+  sun->solver->ops->gettype = IdaCallbacks::ls_type;
+  sun->solver->ops->getid = IdaCallbacks::ls_id;
+  sun->solver->ops->setup = IdaCallbacks::ls_setup;
+  sun->solver->ops->solve = IdaCallbacks::ls_solve;
+  sun->solver->ops->free = IdaCallbacks::ls_free;
+  if (IDASetLinearSolver(sun->ida, sun->solver, sun->matrix) != IDALS_SUCCESS)
+    throw SolverError("SUNDIALS IDA refused the linear solver: " + last_message);
+  IDASetJacFn(sun->ida, IdaCallbacks::jacobian);
+  if (n_roots) IDARootInit(sun->ida, n_roots, IdaCallbacks::roots);
+  histogram.fill(0);
+  t_now = t0;
+}
+
+void IdaIntegrator::set_root_functions(const unsigned int n, RootFunction g)
+{
+  n_roots = n;
+  root_function = std::move(g);
+  if (sun->ida) IDARootInit(sun->ida, n_roots, IdaCallbacks::roots);
+}
+
+double IdaIntegrator::integrate(const double t_end, const double output_interval, const Observer &output)
+{
+  Assert(sun->ida, ExcMessage("initialize() first"));
+  IDASetStopTime(sun->ida, t_end);
+  roots.assign(n_roots, 0);
+  double next_output = output_interval > 0 ? t_now + output_interval : t_end;
+  State y, yp;
+  while (t_now < t_end)
+    {
+      const double t_begin = t_now;
+      realtype t_reached = t_now;
+      const int flag = IDASolve(sun->ida, t_end, &t_reached, sun->y, sun->yp, IDA_ONE_STEP);
+      if (flag < 0) fail(flag);
+      t_now = t_reached;
+      int order = 0;
+      IDAGetLastOrder(sun->ida, &order);
+      if (order >= 1 && order <= 5) ++histogram[order];
+      if (step_hook) step_hook(t_begin, t_now);
+      const double tiny = 1e-12 * std::max(1.0, std::abs(t_end));
+      while (output && next_output <= t_now + tiny)
+        {
+          interpolate(std::min(next_output, t_now), y, yp);
+          output(std::min(next_output, t_now), y, yp);
+          if (next_output >= t_end - tiny) break;
+          next_output = output_interval > 0 ? std::min(next_output + output_interval, t_end) : t_end;
+        }
+      if (flag == IDA_ROOT_RETURN)
+        {
+          IDAGetRootInfo(sun->ida, roots.data());
+          if (output) // the state where the root was found
+            {
+              interpolate(t_now, y, yp);
+              output(t_now, y, yp);
+            }
+          return t_now;
+        }
+      if (flag == IDA_TSTOP_RETURN) break;
+    }
+  return t_now;
+}
+
+void IdaIntegrator::interpolate(const double t, State &y, State &yp) const
+{
+  N_Vector a = N_VClone(sun->y), b = N_VClone(sun->y);
+  IDAGetDky(sun->ida, t, 0, a);
+  IDAGetDky(sun->ida, t, 1, b);
+  to_vector(a, y);
+  to_vector(b, yp);
+  N_VDestroy(a);
+  N_VDestroy(b);
+}
+
+IntegratorStatistics IdaIntegrator::statistics() const
+{
+  IntegratorStatistics s;
+  if (!sun->ida) return s;
+  IDAGetNumSteps(sun->ida, &s.steps);
+  IDAGetNumErrTestFails(sun->ida, &s.error_test_failures);
+  IDAGetNumNonlinSolvIters(sun->ida, &s.nonlinear_iterations);
+  IDAGetNumNonlinSolvConvFails(sun->ida, &s.nonlinear_convergence_failures);
+  IDAGetNumResEvals(sun->ida, &s.residual_evaluations);
+  IDAGetNumJacEvals(sun->ida, &s.jacobian_evaluations);
+  IDAGetNumLinSolvSetups(sun->ida, &s.factorizations);
+  IDAGetLastStep(sun->ida, &s.last_step);
+  s.order_histogram = histogram;
+  return s;
+}
+
+void IdaIntegrator::fail(const int flag) const
+{
+  double t = t_now, h = 0;
+  IDAGetCurrentTime(sun->ida, &t);
+  IDAGetCurrentStep(sun->ida, &h);
+  // The unknown with the largest weighted local error, and the largest residual component at
+  // the last iterate.
+  N_Vector w = N_VClone(sun->y), e = N_VClone(sun->y);
+  IDAGetErrWeights(sun->ida, w);
+  IDAGetEstLocalErrors(sun->ida, e);
+  Vector<double> ww, ee, y, yp, F;
+  to_vector(w, ww);
+  to_vector(e, ee);
+  N_VDestroy(w);
+  N_VDestroy(e);
+  unsigned int worst_error = 0, worst_residual = 0;
+  for (unsigned int i = 0; i < ee.size(); ++i)
+    if (std::abs(ee[i] * ww[i]) > std::abs(ee[worst_error] * ww[worst_error])) worst_error = i;
+  N_Vector yc = nullptr, ypc = nullptr;
+  IDAGetCurrentY(sun->ida, &yc);
+  IDAGetCurrentYp(sun->ida, &ypc);
+  to_vector(yc ? yc : sun->y, y);
+  to_vector(ypc ? ypc : sun->yp, yp);
+  system.residual(t, y, yp, F);
+  for (unsigned int i = 0; i < F.size(); ++i)
+    if (!(std::abs(F[i]) <= std::abs(F[worst_residual]))) worst_residual = i;
+
+  std::ostringstream s;
+  s << std::setprecision(6) << "the time integration (IDA) failed at t = " << t << " s, step " << std::setprecision(3)
+    << h << " s: " << last_message << " (flag " << flag << "). Largest weighted local error: "
+    << system.component_name(worst_error) << "; largest residual: " << system.component_name(worst_residual) << " ("
+    << F[worst_residual] << "). What to change: ";
+  if (flag == IDA_TOO_MUCH_WORK)
+    s << "raise 'Maximum steps' or shorten the run";
+  else if (flag == IDA_TOO_MUCH_ACC)
+    s << "loosen the tolerances";
+  else
+    s << "look for a singular configuration near that time (a joint at a dead point, a driver that "
+         "the mechanism cannot follow), or loosen the tolerances / set a smaller 'Maximum step'";
+  throw SolverError(s.str());
+}
+} // namespace flextrack::multibody

@@ -1,0 +1,235 @@
+// Consistent initial conditions and redundant equations (initial_conditions.h).
+#include <base/input_error.h>
+#include <multibody/initial_conditions.h>
+
+#include <deal.II/lac/lapack_full_matrix.h>
+
+#include <iomanip>
+#include <sstream>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+
+namespace
+{
+/// M^-1 with a unit weight on coordinates without mass (a joint's own coordinates).
+LAPACKFullMatrix<double> weight_inverse(const System &system, const Vector<double> &y)
+{
+  FullMatrix<double> M;
+  system.mass_matrix(y, M);
+  for (unsigned int i = 0; i < M.m(); ++i)
+    if (M(i, i) == 0) M(i, i) = 1;
+  LAPACKFullMatrix<double> W(M.m());
+  W = M;
+  W.invert();
+  return W;
+}
+
+/// dx = -W B^T (B W B^T)^+ r: the mass-weighted minimum-norm solution of B dx = -r.
+Vector<double> minimum_norm_correction(const LAPACKFullMatrix<double> &W, const FullMatrix<double> &B,
+                                       const Vector<double> &r)
+{
+  const unsigned int m = B.m(), n = W.m(); // B may be 0 x 0 when there are no rows
+  Vector<double> dx(n);
+  if (m == 0) return dx;
+  LAPACKFullMatrix<double> Bl(m, n), WBt(n, m), S(m, m);
+  Bl = B;
+  W.mTmult(WBt, Bl);   // W B^T (W symmetric)
+  Bl.mmult(S, WBt);    // B W B^T
+  S.compute_inverse_svd(1e10);
+  Vector<double> z(m), zz(m);
+  S.vmult(z, r);
+  WBt.vmult(dx, z);
+  dx *= -1;
+  return dx;
+}
+
+double max_abs(const Vector<double> &v) { return v.size() ? v.linfty_norm() : 0.0; }
+
+[[noreturn]] void refuse_inconsistent(const System &system, const Vector<double> &phi, const double tolerance,
+                                      const unsigned int iterations)
+{
+  const auto rows = system.constraint_rows(true);
+  std::string joints;
+  double worst = 0;
+  for (unsigned int r = 0; r < rows.size(); ++r)
+    if (std::abs(phi[r]) > tolerance)
+      {
+        const std::string name = system.joint(rows[r].first).name();
+        if (joints.find("'" + name + "'") == std::string::npos) joints += (joints.empty() ? "'" : ", '") + name + "'";
+        worst = std::max(worst, std::abs(phi[r]));
+      }
+  std::ostringstream s;
+  s << "the initial conditions cannot be made consistent: after " << iterations
+    << " Gauss-Newton iterations the constraints of joints " << joints << " are still violated by up to "
+    << std::setprecision(3) << worst
+    << " (m or rad): the joints conflict (a closed loop that cannot close, or redundant joints that disagree), "
+       "or the initial positions are too far from an assembled configuration";
+  throw InputError("Joints", s.str());
+}
+
+/// Gauss-Newton projection of the positions onto Phi = 0 (all equations).
+unsigned int project_positions(const System &system, const double t0, Vector<double> &y,
+                               const InitialConditionSettings &settings)
+{
+  Vector<double> phi, phi_t;
+  FullMatrix<double> B;
+  for (unsigned int it = 0; it < settings.max_iterations; ++it)
+    {
+      system.constraints(t0, y, true, phi, B, phi_t);
+      if (max_abs(phi) <= settings.tolerance) return it;
+      const Vector<double> dx = minimum_norm_correction(weight_inverse(system, y), B, phi);
+      system.move_positions(y, dx);
+    }
+  system.constraints(t0, y, true, phi, B, phi_t);
+  if (max_abs(phi) > settings.tolerance) refuse_inconsistent(system, phi, settings.tolerance, settings.max_iterations);
+  return settings.max_iterations;
+}
+} // namespace
+
+std::vector<unsigned int> dependent_rows(const FullMatrix<double> &B, const double rank_tolerance)
+{
+  std::vector<Vector<double>> basis;
+  std::vector<unsigned int> dependent;
+  for (unsigned int r = 0; r < B.m(); ++r)
+    {
+      Vector<double> w(B.n());
+      for (unsigned int c = 0; c < B.n(); ++c) w[c] = B(r, c);
+      const double norm = w.l2_norm();
+      for (unsigned int pass = 0; pass < 2; ++pass)
+        for (const auto &q : basis) w.add(-(q * w), q);
+      if (norm == 0 || w.l2_norm() <= rank_tolerance * norm)
+        dependent.push_back(r);
+      else
+        {
+          w /= w.l2_norm();
+          basis.push_back(w);
+        }
+    }
+  return dependent;
+}
+
+void consistent_derivatives(System &system, const double t, Vector<double> &y, Vector<double> &yp)
+{
+  const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda();
+  Vector<double> phi, phi_t, Q;
+  FullMatrix<double> B, M;
+  system.constraints(t, y, false, phi, B, phi_t);
+  system.mass_matrix(y, M);
+  system.generalized_forces(t, y, Q);
+
+  // gamma = -d/dt (B v + Phi_t) along q' = T v at fixed v
+  const double eps = 1e-6;
+  Vector<double> v(nv), g_plus, g_minus;
+  for (unsigned int i = 0; i < nv; ++i) v[i] = y[nq + i];
+  auto velocity_constraint = [&](const double s, Vector<double> &g) {
+    Vector<double> ys(y), dx(v);
+    dx *= s;
+    system.move_positions(ys, dx);
+    Vector<double> p, pt;
+    FullMatrix<double> Bs;
+    system.constraints(t + s, ys, false, p, Bs, pt);
+    g = pt;
+    if (p.size()) Bs.vmult_add(g, v);
+  };
+  velocity_constraint(eps, g_plus);
+  velocity_constraint(-eps, g_minus);
+
+  LAPACKFullMatrix<double> K(nv + nl);
+  Vector<double> rhs(nv + nl);
+  for (unsigned int i = 0; i < nv; ++i)
+    {
+      rhs[i] = Q[i];
+      for (unsigned int k = 0; k < nv; ++k) K(i, k) = M(i, k);
+    }
+  for (unsigned int r = 0; r < nl; ++r)
+    {
+      rhs[nv + r] = -(g_plus[r] - g_minus[r]) / (2 * eps);
+      for (unsigned int k = 0; k < nv; ++k) K(nv + r, k) = K(k, nv + r) = B(r, k);
+    }
+  K.compute_lu_factorization();
+  K.solve(rhs);
+
+  Vector<double> q_dot;
+  system.coordinate_rates(y, q_dot);
+  yp.reinit(system.size());
+  for (unsigned int i = 0; i < nq; ++i) yp[i] = q_dot[i];
+  for (unsigned int i = 0; i < nv; ++i) yp[nq + i] = rhs[i];
+  for (unsigned int r = 0; r < nl; ++r) y[nq + nv + r] = rhs[nv + r];
+  for (unsigned int r = 0; r < system.n_mu(); ++r) y[nq + nv + nl + r] = 0;
+}
+
+InitialConditionReport consistent_initial_conditions(System &system, const double t0, Vector<double> &y,
+                                                     Vector<double> &yp, const InitialConditionSettings &settings)
+{
+  InitialConditionReport report;
+  system.initial_guess(y);
+  const Vector<double> y0 = y;
+  system.move_positions(y, Vector<double>(system.n_v())); // normalises p
+  report.iterations = project_positions(system, t0, y, settings);
+
+  // Redundant equations at the projected configuration
+  Vector<double> phi, phi_t;
+  FullMatrix<double> B;
+  system.constraints(t0, y, true, phi, B, phi_t);
+  const auto rows = system.constraint_rows(true);
+  std::vector<std::pair<unsigned int, unsigned int>> drop;
+  for (const unsigned int r : dependent_rows(B, settings.rank_tolerance)) drop.push_back(rows[r]);
+  system.drop_equations(drop);
+  report.dropped = system.dropped_equations();
+  y.grow_or_shrink(system.size());
+
+  // Velocities onto B v + Phi_t = 0 (active equations: B has full row rank now)
+  system.constraints(t0, y, false, phi, B, phi_t);
+  const unsigned int nq = system.n_q(), nv = system.n_v();
+  Vector<double> v(nv), r(phi_t);
+  for (unsigned int i = 0; i < nv; ++i) v[i] = y[nq + i];
+  if (B.m()) B.vmult_add(r, v);
+  const Vector<double> dv = minimum_norm_correction(weight_inverse(system, y), B, r);
+  for (unsigned int i = 0; i < nv; ++i) y[nq + i] += dv[i];
+  consistent_derivatives(system, t0, y, yp);
+
+  system.constraints(t0, y, false, phi, B, phi_t);
+  for (unsigned int i = 0; i < nv; ++i) v[i] = y[nq + i];
+  r = phi_t;
+  if (B.m()) B.vmult_add(r, v);
+  report.position_residual = max_abs(phi);
+  report.velocity_residual = max_abs(r);
+
+  for (unsigned int b = 1; b < system.n_bodies(); ++b)
+    {
+      const Body &body = system.body(b);
+      const unsigned int q0 = system.q_offset(b), v0 = nq + system.v_offset(b);
+      BodyCorrection c;
+      c.body = body.name();
+      double dp = 0, n0 = 0;
+      for (unsigned int a = 0; a < 3; ++a) c.displacement += std::pow(y[q0 + a] - y0[q0 + a], 2);
+      for (unsigned int a = 0; a < 4; ++a) dp += y[q0 + 3 + a] * y0[q0 + 3 + a], n0 += y0[q0 + 3 + a] * y0[q0 + 3 + a];
+      c.displacement = std::sqrt(c.displacement);
+      c.rotation = 2 * std::acos(std::min(1.0, std::abs(dp) / std::sqrt(n0)));
+      for (unsigned int k = 0; k < body.n_modes(); ++k) c.modal += std::pow(y[q0 + 7 + k] - y0[q0 + 7 + k], 2);
+      c.modal = std::sqrt(c.modal);
+      for (unsigned int k = 0; k < body.n_v(); ++k) c.velocity += std::pow(y[v0 + k] - y0[v0 + k], 2);
+      c.velocity = std::sqrt(c.velocity);
+      report.corrections.push_back(c);
+    }
+  return report;
+}
+
+std::string InitialConditionReport::text() const
+{
+  std::ostringstream s;
+  s << std::setprecision(3);
+  s << "Initial conditions: positions projected in " << iterations << " iteration(s); |Phi| = " << position_residual
+    << ", |B v + Phi_t| = " << velocity_residual << "\n";
+  for (const auto &c : corrections)
+    s << "  body " << c.body << ": moved " << c.displacement << " m, turned " << c.rotation << " rad"
+      << (c.modal > 0 ? ", modal change " + std::to_string(c.modal) : std::string()) << ", velocity change "
+      << c.velocity << "\n";
+  for (const auto &d : dropped)
+    s << "  redundant: joint " << d.joint << ", equation " << d.equation << " (" << d.description
+      << ") dropped; its reaction is not unique\n";
+  return s.str();
+}
+} // namespace flextrack::multibody

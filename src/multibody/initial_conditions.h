@@ -1,0 +1,66 @@
+// Consistent initial conditions for the GGL DAE, and redundant joint equations.
+//
+//  1. Positions: Gauss-Newton on Phi(q, t0) = 0 with the minimum-norm, mass-weighted correction
+//       dx = -M^-1 B^T (B M^-1 B^T)^+ Phi      (dx in velocity coordinates, q += T(q) dx)
+//     The pseudo-inverse (SVD, singular values below 1e-10 of the largest dropped) copes with
+//     redundant equations before they are known.
+//  2. Redundancy, at the projected configuration: the rows of B (all joint equations, in joint
+//     order) are orthogonalised one by one (modified Gram-Schmidt, twice); a row whose remainder
+//     is below 1e-8 of its norm depends on the earlier ones and is dropped (its joint and
+//     equation are reported; its reaction is then not unique). Dependent equations that cannot be
+//     satisfied (conflicting joints) show up as a position residual that the projection cannot
+//     remove: that is an InputError naming the joints.
+//  3. Velocities: v = v0 - M^-1 B^T (B M^-1 B^T)^-1 (B v0 + Phi_t), active equations only.
+//  4. Accelerations and multipliers from the index-1 system
+//       [M B^T; B 0] [v'; lambda] = [Q; gamma],  gamma = -d/dt (B v + Phi_t) at fixed v
+//     (gamma by a central difference in time along q' = T v, step 1e-6 s); q' = T v; mu = 0.
+#pragma once
+
+#include <multibody/system.h>
+
+#include <deal.II/lac/vector.h>
+
+#include <string>
+#include <vector>
+
+namespace flextrack::multibody
+{
+struct InitialConditionSettings
+{
+  double tolerance = 1e-11;       ///< max |Phi| [m or -] after projection
+  unsigned int max_iterations = 50;
+  double rank_tolerance = 1e-8;   ///< relative remainder below which a row is dependent
+};
+
+struct BodyCorrection
+{
+  std::string body;
+  double displacement = 0;   ///< |Delta R| [m]
+  double rotation = 0;       ///< angle of the orientation change [rad]
+  double modal = 0;          ///< |Delta eta| [modal units]
+  double velocity = 0;       ///< |Delta v| (all velocity coordinates of the body, mixed units)
+};
+
+struct InitialConditionReport
+{
+  std::vector<BodyCorrection> corrections;
+  std::vector<DroppedEquation> dropped;
+  unsigned int iterations = 0;
+  double position_residual = 0, velocity_residual = 0;
+  std::string text() const; ///< several lines for a log
+};
+
+/// Builds consistent (y, yp) at @p t0 from the bodies' initial states and drops the redundant
+/// joint equations of @p system (call once, after System::finalize()).
+InitialConditionReport consistent_initial_conditions(System &system, double t0, dealii::Vector<double> &y,
+                                                     dealii::Vector<double> &yp,
+                                                     const InitialConditionSettings &settings = {});
+
+/// The (joint, equation) rows of @p B (rows as System::constraint_rows(true)) that depend on
+/// earlier rows.
+std::vector<unsigned int> dependent_rows(const dealii::FullMatrix<double> &B, double rank_tolerance);
+
+/// Accelerations and multipliers at (t, y) from the index-1 system; fills yp (q', v') and the
+/// lambda part of y; mu = 0.
+void consistent_derivatives(System &system, double t, dealii::Vector<double> &y, dealii::Vector<double> &yp);
+} // namespace flextrack::multibody

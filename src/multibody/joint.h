@@ -1,0 +1,59 @@
+// The joint interface: everything the index-2 (GGL) DAE needs of a constraint.
+//
+// A joint touches two bodies (either may be the ground) through markers and may own extra
+// coordinates (a track joint's arc length s). It gives, at positions q and time t,
+//   Phi(q, t)             its m constraint values,
+//   B = dPhi/dq T(q)      their Jacobian w.r.t. the velocity coordinates of each body it touches
+//                         and w.r.t. its own coordinates (whose T is the identity),
+//   Phi_t = dPhi/dt       the explicit time derivative (drivers).
+// The position-level Jacobian Phi_q follows from B (System does it: the Euler-parameter columns
+// are 2 B_omega G(p) / |p|^2, because A(p) is computed from p / |p|, so Phi does not change
+// along p). Reactions: the generalised constraint force on the bodies is -B^T lambda.
+#pragma once
+
+#include <multibody/body.h>
+#include <multibody/marker.h>
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <string>
+#include <vector>
+
+namespace flextrack::multibody
+{
+struct JointEvaluation
+{
+  dealii::Vector<double> phi, phi_t;           ///< m values [m or -], [per s]
+  std::vector<dealii::FullMatrix<double>> B;   ///< per body of bodies(): m x n_v(body)
+  dealii::FullMatrix<double> B_own;            ///< m x n_own_coordinates()
+};
+
+class Joint
+{
+public:
+  explicit Joint(std::string name) : joint_name(std::move(name)) {}
+  virtual ~Joint() = default;
+  const std::string &name() const { return joint_name; }
+
+  virtual unsigned int n_equations() const = 0;
+  /// The bodies it touches, in a fixed order (the first is the one the reaction acts on).
+  virtual std::vector<const Body *> bodies() const = 0;
+  virtual unsigned int n_own_coordinates() const { return 0; }
+  virtual void initial_own_coordinates(double * /*q*/, double * /*v*/) const {}
+  /// @p q: coordinates of each body of bodies() (nullptr for the ground).
+  virtual void evaluate(const std::vector<const double *> &q, const double *own_q, double t,
+                        JointEvaluation &e) const = 0;
+  /// Short description of equation @p k, e.g. "translation along x of marker 2".
+  virtual std::string equation_name(unsigned int k) const { return "equation " + std::to_string(k); }
+  /// Is equation @p k rheonomic (a driver): its reaction does work.
+  virtual bool is_driver_equation(unsigned int) const { return false; }
+  /// Force [N] and torque [N m] (global) that the joint exerts on the first body at its marker,
+  /// for multipliers @p lambda (all m equations; dropped ones zero).
+  virtual void reaction(const std::vector<const double *> &q, const double *own_q, double t, const double *lambda,
+                        Vector3 &force, Vector3 &torque) const = 0;
+
+private:
+  std::string joint_name;
+};
+} // namespace flextrack::multibody

@@ -1,0 +1,102 @@
+// Kinematics of a marker fixed on a (possibly flexible) body; see marker.h for the formulas.
+#include <base/input_error.h>
+#include <multibody/marker.h>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+using geometry::skew;
+
+FixedMarker::FixedMarker(const Body &body, std::string name, const Point<3> &point, const Matrix3 &frame,
+                         const FullMatrix<double> &modes)
+  : Marker(body, std::move(name)), x0(point), a0(frame), phi(modes)
+{
+  if (phi.m() == 0) phi.reinit(6, body.n_modes());
+  Assert(phi.n() == body.n_modes(), ExcMessage("interface modes do not match the body's modes"));
+}
+
+void FixedMarker::evaluate(const double *q, const double *, MarkerKinematics &k) const
+{
+  const unsigned int nv = body().n_v();
+  k.J_position.reinit(3, nv);
+  k.J_rotation.reinit(3, nv);
+  for (auto &J : k.J_axes) J.reinit(3, nv);
+  if (nv == 0) // ground
+    {
+      k.position = Vector3(x0);
+      for (unsigned int a = 0; a < 3; ++a)
+        for (unsigned int b = 0; b < 3; ++b) k.axes[a][b] = a0[b][a];
+      return;
+    }
+  const unsigned int n = body().n_modes();
+  const Vector3 R({q[0], q[1], q[2]});
+  const Matrix3 A = geometry::rotation_matrix({{q[3], q[4], q[5], q[6]}});
+  Vector3 u(x0), theta;
+  for (unsigned int m = 0; m < n; ++m)
+    for (unsigned int a = 0; a < 3; ++a)
+      {
+        u[a] += phi(a, m) * q[7 + m];
+        theta[a] += phi(3 + a, m) * q[7 + m];
+      }
+  k.position = R + A * u;
+
+  // r' = R' - A u~ omega + A Phi_u eta'
+  const Matrix3 Au = -A * skew(u);
+  for (unsigned int a = 0; a < 3; ++a)
+    {
+      k.J_position(a, a) = 1;
+      for (unsigned int b = 0; b < 3; ++b)
+        {
+          k.J_position(a, 3 + b) = Au[a][b];
+          k.J_rotation(a, 3 + b) = A[a][b]; // omega_global = A (omega + Phi_th eta')
+        }
+      for (unsigned int m = 0; m < n; ++m)
+        for (unsigned int b = 0; b < 3; ++b)
+          {
+            k.J_position(a, 6 + m) += A[a][b] * phi(b, m);
+            k.J_rotation(a, 6 + m) += A[a][b] * phi(3 + b, m);
+          }
+    }
+
+  // Axis e = A b, b = a0 + theta x a0:  e' = -A b~ omega - A a0~ Phi_th eta'
+  for (unsigned int c = 0; c < 3; ++c)
+    {
+      Vector3 a_0;
+      for (unsigned int b = 0; b < 3; ++b) a_0[b] = a0[b][c];
+      const Vector3 b_c = a_0 + cross_product_3d(theta, a_0);
+      k.axes[c] = A * b_c;
+      const Matrix3 Ab = -A * skew(b_c), Aa = -A * skew(a_0);
+      FullMatrix<double> &J = k.J_axes[c];
+      for (unsigned int a = 0; a < 3; ++a)
+        {
+          for (unsigned int b = 0; b < 3; ++b) J(a, 3 + b) = Ab[a][b];
+          for (unsigned int m = 0; m < n; ++m)
+            for (unsigned int b = 0; b < 3; ++b) J(a, 6 + m) += Aa[a][b] * phi(3 + b, m);
+        }
+    }
+}
+
+std::unique_ptr<FixedMarker> FixedMarker::at_global_pose(const Body &body, std::string name, const Vector3 &position,
+                                                         const Matrix3 &axes, const double *q,
+                                                         const std::string &interface)
+{
+  if (body.is_ground()) return std::make_unique<FixedMarker>(body, std::move(name), Point<3>(position), axes);
+  const Vector3 R({q[0], q[1], q[2]});
+  const Matrix3 A = geometry::rotation_matrix({{q[3], q[4], q[5], q[6]}});
+  const Matrix3 frame = transpose(A) * axes;
+  if (interface.empty())
+    return std::make_unique<FixedMarker>(body, std::move(name), Point<3>(transpose(A) * (position - R)), frame);
+
+  const auto *floating = dynamic_cast<const FloatingBody *>(&body);
+  const reduction::ReducedBody *reduced = floating ? floating->source() : nullptr;
+  if (!reduced) throw InputError("Interface", "body '" + body.name() + "' is not flexible; it has no interface '" + interface + "'");
+  // A flexible body made rigid keeps its interfaces' positions, without their modes.
+  for (const auto &i : reduced->interfaces)
+    if (i.name == interface && body.n_modes() == 0) return std::make_unique<FixedMarker>(body, std::move(name), i.position, frame);
+  for (const auto &i : reduced->interfaces)
+    if (i.name == interface) return std::make_unique<FixedMarker>(body, std::move(name), i.position, frame, i.modes);
+  std::string allowed;
+  for (const auto &i : reduced->interfaces) allowed += (allowed.empty() ? "" : ", ") + i.name;
+  throw InputError("Interface", "body '" + body.name() + "' has no interface '" + interface + "'; allowed: " + allowed);
+}
+} // namespace flextrack::multibody

@@ -1,0 +1,84 @@
+// Constraint and energy monitors (monitors.h).
+#include <multibody/monitors.h>
+
+#include <cmath>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+
+Powers Monitors::powers(const double t, const Vector<double> &y) const
+{
+  Powers p;
+  for (unsigned int f = 0; f < system.n_forces(); ++f)
+    {
+      const auto q = system.force_q(f, y), v = system.force_v(f, y);
+      p.applied += system.force(f).applied_power(q, v, t);
+      p.dissipation += system.force(f).dissipation_power(q, v);
+    }
+  for (unsigned int b = 1; b < system.n_bodies(); ++b)
+    p.dissipation += system.body(b).dissipation_power(system.q_of(b, y), system.v_of(b, y));
+  Vector<double> phi, phi_t;
+  FullMatrix<double> B;
+  system.constraints(t, y, false, phi, B, phi_t);
+  const unsigned int l0 = system.n_q() + system.n_v();
+  for (unsigned int r = 0; r < phi_t.size(); ++r) p.drivers += y[l0 + r] * phi_t[r]; // power of -B^T lambda
+  return p;
+}
+
+void Monitors::attach(IdaIntegrator &ida)
+{
+  ida.set_step_hook([this, &ida](const double t0, const double t1) {
+    Vector<double> y, yp;
+    Powers p[3];
+    const double t[3] = {t0, 0.5 * (t0 + t1), t1};
+    for (unsigned int i = 0; i < 3; ++i)
+      {
+        ida.interpolate(t[i], y, yp);
+        p[i] = powers(t[i], y);
+      }
+    const double w = (t1 - t0) / 6; // Simpson
+    work_applied += w * (p[0].applied + 4 * p[1].applied + p[2].applied);
+    work_drivers += w * (p[0].drivers + 4 * p[1].drivers + p[2].drivers);
+    dissipated += w * (p[0].dissipation + 4 * p[1].dissipation + p[2].dissipation);
+  });
+}
+
+MonitorValues Monitors::evaluate(const double t, const Vector<double> &y) const
+{
+  MonitorValues m;
+  m.time = t;
+  Vector<double> phi, phi_t, v(system.n_v()), r;
+  FullMatrix<double> B;
+  system.constraints(t, y, false, phi, B, phi_t);
+  for (unsigned int i = 0; i < system.n_v(); ++i) v[i] = y[system.n_q() + i];
+  r = phi_t;
+  if (B.m()) B.vmult_add(r, v);
+  m.position_residual = phi.size() ? phi.linfty_norm() : 0.0;
+  m.velocity_residual = r.size() ? r.linfty_norm() : 0.0;
+  for (unsigned int i = system.n_q() + system.n_v() + system.n_lambda(); i < system.size(); ++i)
+    m.max_mu = std::max(m.max_mu, std::abs(y[i]));
+  for (unsigned int b = 1; b < system.n_bodies(); ++b)
+    {
+      const Body &body = system.body(b);
+      const double *q = system.q_of(b, y), *vb = system.v_of(b, y);
+      m.normalisation_drift = std::max(m.normalisation_drift, std::abs(std::sqrt(q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]) - 1));
+      m.kinetic += body.kinetic_energy(q, vb);
+      m.gravity += body.gravity_potential(q, system.gravity());
+      m.strain += body.strain_energy(q);
+    }
+  for (unsigned int f = 0; f < system.n_forces(); ++f) m.springs += system.force(f).potential_energy(system.force_q(f, y));
+  m.work_applied = work_applied;
+  m.work_drivers = work_drivers;
+  m.dissipated = dissipated;
+  return m;
+}
+
+double Monitors::balance_error(const MonitorValues &start, const MonitorValues &now)
+{
+  const double balance = now.energy() - start.energy() - (now.work_applied + now.work_drivers - now.dissipated);
+  const double scale = std::max({std::abs(start.energy()), std::abs(now.work_applied), std::abs(now.work_drivers),
+                                 std::abs(now.dissipated), now.kinetic, 1e-300});
+  return balance / scale;
+}
+} // namespace flextrack::multibody

@@ -1,0 +1,181 @@
+// The multibody system as one DAE: the stabilised index-2 form of Gear, Gupta and Leimkuhler.
+//
+// Unknowns y = (q, v, lambda, mu): positions q (per body R, p, eta; then the joints' own
+// coordinates), velocities v (per body R', omega, eta'; then the joints' own), multipliers lambda
+// of the velocity constraints and mu of the position constraints. The residual, in that order
+// of rows (so that row i and unknown i share a name):
+//   F_q      = q' - T(q) v + Phi_q^T mu           (n_q)
+//   F_v      = M(q) v' - Q(q, v, t) + B^T lambda  (n_v)
+//   F_lambda = B v + Phi_t                        (joint equations)
+//   F_mu     = Phi(q, t)                          (joint equations, then |p|^2 - 1 per body)
+// The Euler-parameter normalisation is a position constraint only: its velocity form 2 p^T p'
+// = p^T G^T omega vanishes identically (G p = 0), so a velocity row would make the Jacobian
+// singular. Redundant joint equations found at the start are dropped from both sets.
+//
+// The Jacobian dF/dy + alpha dF/dy' is assembled element by element (bodies, joints, forces)
+// into an Epetra_CrsMatrix on an Epetra_SerialComm (no MPI needed) whose pattern is fixed once:
+// alpha M, Phi_q, Phi_q^T and B^T are analytic; the derivatives of M v' - Q and of the
+// multiplier terms w.r.t. q and v are central differences of each element's own residual
+// (element-local, so a column costs one element evaluation, not a system one). It is factorised
+// by Amesos KLU, the symbolic factorisation done once.
+#pragma once
+
+#include <multibody/body.h>
+#include <multibody/force.h>
+#include <multibody/joint.h>
+#include <multibody/joint_table.h>
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+class Epetra_CrsMatrix;
+
+namespace flextrack::multibody
+{
+class JacobianSolver;
+
+/// A joint equation that was found dependent on others and dropped.
+struct DroppedEquation
+{
+  std::string joint;
+  unsigned int equation;
+  std::string description;
+};
+
+class System
+{
+public:
+  /// @p gravity [m/s^2], global.
+  explicit System(const Vector3 &gravity = Vector3());
+  ~System();
+
+  // Building
+  const Body &ground() const { return *bodies[0].body; }
+  const Body &add_body(std::unique_ptr<Body> body);
+  void add_joint(std::unique_ptr<Joint> joint);
+  void add_force(std::unique_ptr<Force> force);
+  const Body *find_body(const std::string &name) const;
+  BodyLookup body_lookup() const;
+  const Vector3 &gravity() const { return g; }
+
+  /// Lays out the coordinates; all joint equations active. Call once after building.
+  void finalize();
+  /// Drops joint equations (pairs joint index, equation); re-lays out the multipliers.
+  void drop_equations(const std::vector<std::pair<unsigned int, unsigned int>> &equations);
+  const std::vector<DroppedEquation> &dropped_equations() const { return dropped; }
+
+  // Layout
+  unsigned int n_q() const { return nq; }
+  unsigned int n_v() const { return nv; }
+  unsigned int n_lambda() const { return nlambda; }
+  unsigned int n_mu() const { return nmu; }
+  unsigned int size() const { return nq + nv + nlambda + nmu; }
+  unsigned int n_bodies() const { return bodies.size(); } ///< including the ground (index 0)
+  const Body &body(unsigned int b) const { return *bodies[b].body; }
+  unsigned int q_offset(unsigned int b) const { return bodies[b].q; }
+  unsigned int v_offset(unsigned int b) const { return bodies[b].v; }
+  unsigned int n_joints() const { return joints.size(); }
+  const Joint &joint(unsigned int j) const { return *joints[j].joint; }
+  unsigned int n_forces() const { return forces.size(); }
+  /// Offset of joint @p j's multipliers in lambda (and in mu) and its active equations.
+  unsigned int multiplier_offset(unsigned int j) const { return joints[j].multiplier; }
+  const std::vector<unsigned int> &active_equations(unsigned int j) const { return joints[j].active; }
+  /// "body crank, omega_z", "joint pin, position constraint: rotation about x ...".
+  std::string component_name(unsigned int i) const;
+
+  /// q and v from the bodies' and joints' initial states; lambda = mu = 0.
+  void initial_guess(dealii::Vector<double> &y) const;
+  /// 1 for differential components (q, and v with mass), 0 for algebraic ones.
+  void differential_components(dealii::Vector<double> &id) const;
+
+  // The DAE
+  void residual(double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
+                dealii::Vector<double> &F) const;
+  /// dF/dy + alpha dF/dy' into jacobian(); counts evaluations.
+  void assemble_jacobian(double t, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
+  const Epetra_CrsMatrix &jacobian() const;
+  /// KLU factorisation of jacobian(); false if it is singular.
+  bool factorize();
+  /// x = J^{-1} b (after factorize()); x and b may alias.
+  void solve(const double *b, double *x);
+  unsigned long n_jacobian_evaluations() const { return jacobian_count; }
+
+  // Pieces for initial conditions, monitors, linearisation (all in v-coordinates, dense)
+  void mass_matrix(const dealii::Vector<double> &y, dealii::FullMatrix<double> &M) const;
+  void generalized_forces(double t, const dealii::Vector<double> &y, dealii::Vector<double> &Q) const;
+  /// Joint equations (all, or the active ones) at y: Phi, B (rows x n_v) and Phi_t.
+  void constraints(double t, const dealii::Vector<double> &y, bool all_equations, dealii::Vector<double> &phi,
+                   dealii::FullMatrix<double> &B, dealii::Vector<double> &phi_t) const;
+  /// (joint, equation) of each row of constraints(.., all_equations, ..).
+  std::vector<std::pair<unsigned int, unsigned int>> constraint_rows(bool all_equations) const;
+  /// q += T(q) dx for a displacement dx in v-coordinates; Euler parameters renormalised.
+  void move_positions(dealii::Vector<double> &y, const dealii::Vector<double> &dx) const;
+  /// q' = T(q) v.
+  void coordinate_rates(const dealii::Vector<double> &y, dealii::Vector<double> &q_dot) const;
+
+  // Pointers to one body's or joint's coordinates in y
+  const double *q_of(unsigned int b, const dealii::Vector<double> &y) const { return bodies[b].body->n_q() ? y.begin() + bodies[b].q : nullptr; }
+  const double *v_of(unsigned int b, const dealii::Vector<double> &y) const { return bodies[b].body->n_v() ? y.begin() + nq + bodies[b].v : nullptr; }
+  std::vector<const double *> joint_q(unsigned int j, const dealii::Vector<double> &y) const;
+  std::vector<const double *> force_q(unsigned int f, const dealii::Vector<double> &y) const;
+  std::vector<const double *> force_v(unsigned int f, const dealii::Vector<double> &y) const;
+  const Force &force(unsigned int f) const { return *forces[f].force; }
+
+private:
+  struct BodySlot
+  {
+    std::unique_ptr<Body> body;
+    unsigned int q = 0, v = 0, normalisation = 0; // offsets; normalisation row in mu
+  };
+  struct JointSlot
+  {
+    std::unique_ptr<Joint> joint;
+    std::vector<unsigned int> body_index;
+    unsigned int own_q = 0, own_v = 0; // offsets of its own coordinates in q and v
+    std::vector<unsigned int> active;  // active equations
+    unsigned int multiplier = 0;       // offset in lambda and mu
+  };
+  struct ForceSlot
+  {
+    std::unique_ptr<Force> force;
+    std::vector<unsigned int> body_index;
+  };
+  /// Rows an element writes and the state columns (q, v entries) it depends on.
+  struct ElementIndices
+  {
+    std::vector<unsigned int> rows, columns;
+  };
+
+  void layout_multipliers();
+  void build_element_indices();
+  unsigned int body_index(const Body &b) const;
+  // Element residuals, into local rows (ElementIndices::rows order)
+  void body_residual(unsigned int b, double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
+                     std::vector<double> &out) const;
+  void joint_residual(unsigned int j, double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
+                      std::vector<double> &out) const;
+  void force_residual(unsigned int f, double t, const dealii::Vector<double> &y, std::vector<double> &out) const;
+  /// Phi_q of a joint's active rows w.r.t. the q entries of its columns (analytic, from B).
+  void joint_position_jacobian(unsigned int j, const dealii::Vector<double> &y, const JointEvaluation &e,
+                               dealii::FullMatrix<double> &Phi_q) const;
+  void add_local(const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols,
+                 const dealii::FullMatrix<double> &block);
+  void element_differences(unsigned int kind, unsigned int index, double t, const dealii::Vector<double> &y,
+                           const dealii::Vector<double> &yp);
+
+  Vector3 g;
+  std::vector<BodySlot> bodies;
+  std::vector<JointSlot> joints;
+  std::vector<ForceSlot> forces;
+  std::vector<DroppedEquation> dropped;
+  unsigned int nq = 0, nv = 0, nlambda = 0, nmu = 0, n_own_q = 0;
+  bool finalized = false;
+  std::vector<ElementIndices> body_elements, joint_elements, force_elements;
+  std::unique_ptr<JacobianSolver> solver;
+  unsigned long jacobian_count = 0;
+};
+} // namespace flextrack::multibody

@@ -1,0 +1,157 @@
+// The Jacobian dF/dy + alpha dF/dy' of the GGL residual (system.h), element by element:
+//  - analytic: alpha on the q' terms, alpha M(q) on v', Phi_q^T on mu, 2 p on the normalisation
+//    multiplier, B^T on lambda, and Phi_q in the position-constraint rows;
+//  - central differences of each element's residual w.r.t. the q and v entries it reads (the
+//    derivatives of M v' - Q, of T v and of the multiplier terms), step h = 1e-6 (1 + |y_c|):
+//    truncation O(h^2 y''') and rounding O(eps / h) both near 1e-10 relative.
+#include <multibody/jacobian_solver.h>
+#include <multibody/system.h>
+
+#include <Epetra_CrsMatrix.h>
+
+#include <set>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+
+namespace
+{
+constexpr double relative_step = 1e-6;
+
+enum ElementKind : unsigned int { body_element = 0, joint_element = 1, force_element = 2 };
+} // namespace
+
+const Epetra_CrsMatrix &System::jacobian() const
+{
+  Assert(solver, ExcMessage("assemble_jacobian() first"));
+  return solver->matrix();
+}
+
+void System::add_local(const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols,
+                       const FullMatrix<double> &block)
+{
+  std::vector<double> values(rows.size() * cols.size());
+  for (unsigned int i = 0; i < rows.size(); ++i)
+    for (unsigned int k = 0; k < cols.size(); ++k) values[i * cols.size() + k] = block(i, k);
+  solver->add(rows, cols, values.data());
+}
+
+void System::element_differences(const unsigned int kind, const unsigned int index, const double t,
+                                 const Vector<double> &y, const Vector<double> &yp)
+{
+  const ElementIndices &e = kind == body_element ? body_elements[index] : kind == joint_element ? joint_elements[index]
+                                                                                               : force_elements[index];
+  auto evaluate = [&](const Vector<double> &yy, std::vector<double> &out) {
+    if (kind == body_element) body_residual(index, t, yy, yp, out);
+    else if (kind == joint_element) joint_residual(index, t, yy, yp, out);
+    else force_residual(index, t, yy, out);
+  };
+  Vector<double> yy(y);
+  std::vector<double> plus, minus;
+  FullMatrix<double> block(e.rows.size(), e.columns.size());
+  for (unsigned int c = 0; c < e.columns.size(); ++c)
+    {
+      const unsigned int col = e.columns[c];
+      const double h = relative_step * (1 + std::abs(y[col]));
+      yy[col] = y[col] + h;
+      evaluate(yy, plus);
+      yy[col] = y[col] - h;
+      evaluate(yy, minus);
+      yy[col] = y[col];
+      for (unsigned int r = 0; r < e.rows.size(); ++r) block(r, c) = (plus[r] - minus[r]) / (2 * h);
+    }
+  if (kind == joint_element) // position-constraint rows: analytic Phi_q instead (below)
+    {
+      const unsigned int m = joints[index].active.size();
+      for (unsigned int r = e.rows.size() - m; r < e.rows.size(); ++r)
+        for (unsigned int c = 0; c < e.columns.size(); ++c) block(r, c) = 0;
+    }
+  add_local(e.rows, e.columns, block);
+}
+
+void System::assemble_jacobian(const double t, const double alpha, const Vector<double> &y, const Vector<double> &yp)
+{
+  const unsigned int l0 = nq + nv, m0 = nq + nv + nlambda;
+  if (!solver) // the pattern: every element's rows x (its columns, its multipliers)
+    {
+      std::vector<std::set<int>> pattern(size());
+      auto add = [&](const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols) {
+        for (const unsigned int r : rows) pattern[r].insert(cols.begin(), cols.end());
+      };
+      for (unsigned int b = 1; b < bodies.size(); ++b)
+        {
+          add(body_elements[b].rows, body_elements[b].columns);
+          add(body_elements[b].rows, {m0 + bodies[b].normalisation});
+        }
+      for (unsigned int j = 0; j < joints.size(); ++j)
+        {
+          std::vector<unsigned int> multipliers;
+          for (unsigned int r = 0; r < joints[j].active.size(); ++r)
+            multipliers.insert(multipliers.end(), {l0 + joints[j].multiplier + r, m0 + joints[j].multiplier + r});
+          add(joint_elements[j].rows, joint_elements[j].columns);
+          add(joint_elements[j].rows, multipliers);
+        }
+      for (unsigned int f = 0; f < forces.size(); ++f) add(force_elements[f].rows, force_elements[f].columns);
+      for (unsigned int i = 0; i < size(); ++i) pattern[i].insert(i); // diagonal, also for unused multipliers
+      solver = std::make_unique<JacobianSolver>(pattern);
+    }
+  ++jacobian_count;
+  solver->zero();
+  for (unsigned int b = 1; b < bodies.size(); ++b)
+    {
+      element_differences(body_element, b, t, y, yp);
+      const BodySlot &s = bodies[b];
+      for (unsigned int i = 0; i < s.body->n_q(); ++i) solver->add(s.q + i, s.q + i, alpha); // q'
+      FullMatrix<double> M;
+      s.body->mass_matrix((y.begin() + (s.q)), M);
+      std::vector<unsigned int> v_rows(s.body->n_v());
+      for (unsigned int i = 0; i < v_rows.size(); ++i) v_rows[i] = nq + s.v + i;
+      M *= alpha;
+      add_local(v_rows, v_rows, M); // alpha M
+      for (unsigned int i = 0; i < 4; ++i) solver->add(s.q + 3 + i, m0 + s.normalisation, 2 * y[s.q + 3 + i]);
+    }
+  for (unsigned int j = 0; j < joints.size(); ++j)
+    {
+      element_differences(joint_element, j, t, y, yp);
+      const JointSlot &s = joints[j];
+      const ElementIndices &e = joint_elements[j];
+      const unsigned int m = s.active.size(), n_own = s.joint->n_own_coordinates();
+      JointEvaluation ev;
+      s.joint->evaluate(joint_q(j, y), n_own ? (y.begin() + (s.own_q)) : nullptr, t, ev);
+      FullMatrix<double> Phi_q;
+      joint_position_jacobian(j, y, ev, Phi_q);
+      const unsigned int n_qc = Phi_q.n(), n_vc = e.columns.size() - n_qc;
+      for (unsigned int i = 0; i < n_own; ++i) solver->add(s.own_q + i, s.own_q + i, alpha);
+      for (unsigned int r = 0; r < m; ++r)
+        {
+          for (unsigned int c = 0; c < n_qc; ++c)
+            {
+              solver->add(e.columns[c], m0 + s.multiplier + r, Phi_q(r, c)); // Phi_q^T mu
+              solver->add(m0 + s.multiplier + r, e.columns[c], Phi_q(r, c)); // Phi
+            }
+          unsigned int c = 0;
+          for (unsigned int b = 0; b <= s.body_index.size(); ++b)
+            {
+              const FullMatrix<double> &B = b == s.body_index.size() ? ev.B_own : ev.B[b];
+              for (unsigned int k = 0; k < B.n(); ++k, ++c)
+                solver->add(e.columns[n_qc + c], l0 + s.multiplier + r, B(s.active[r], k)); // B^T lambda
+            }
+          Assert(c == n_vc, ExcInternalError());
+          (void)n_vc;
+        }
+    }
+  for (unsigned int f = 0; f < forces.size(); ++f) element_differences(force_element, f, t, y, yp);
+}
+
+bool System::factorize()
+{
+  Assert(solver, ExcMessage("assemble_jacobian() first"));
+  return solver->factorize();
+}
+
+void System::solve(const double *b, double *x)
+{
+  solver->solve(b, x);
+}
+} // namespace flextrack::multibody

@@ -1,0 +1,103 @@
+// Dense pieces of the system in velocity coordinates - mass matrix, generalised forces,
+// constraint values and Jacobians, position updates - used by the consistent initial
+// conditions, the monitors and the linearisation (sizes there are small: n_v, not n_y).
+#include <multibody/system.h>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+
+void System::mass_matrix(const Vector<double> &y, FullMatrix<double> &M) const
+{
+  M.reinit(nv, nv);
+  FullMatrix<double> Mb;
+  for (const auto &b : bodies)
+    {
+      if (b.body->is_ground()) continue;
+      b.body->mass_matrix((y.begin() + (b.q)), Mb);
+      for (unsigned int i = 0; i < Mb.m(); ++i)
+        for (unsigned int k = 0; k < Mb.n(); ++k) M(b.v + i, b.v + k) = Mb(i, k);
+    }
+}
+
+void System::generalized_forces(const double t, const Vector<double> &y, Vector<double> &Q) const
+{
+  Q.reinit(nv);
+  for (const auto &b : bodies)
+    if (!b.body->is_ground()) b.body->forces((y.begin() + (b.q)), (y.begin() + (nq + b.v)), g, (Q.begin() + (b.v)));
+  for (unsigned int f = 0; f < forces.size(); ++f)
+    {
+      std::vector<double *> Qb;
+      for (const unsigned int b : forces[f].body_index) Qb.push_back(bodies[b].body->n_v() ? &Q[bodies[b].v] : nullptr);
+      forces[f].force->add_forces(force_q(f, y), force_v(f, y), t, Qb);
+    }
+}
+
+std::vector<std::pair<unsigned int, unsigned int>> System::constraint_rows(const bool all_equations) const
+{
+  std::vector<std::pair<unsigned int, unsigned int>> rows;
+  for (unsigned int j = 0; j < joints.size(); ++j)
+    {
+      if (all_equations)
+        for (unsigned int k = 0; k < joints[j].joint->n_equations(); ++k) rows.emplace_back(j, k);
+      else
+        for (const unsigned int k : joints[j].active) rows.emplace_back(j, k);
+    }
+  return rows;
+}
+
+void System::constraints(const double t, const Vector<double> &y, const bool all_equations, Vector<double> &phi,
+                         FullMatrix<double> &B, Vector<double> &phi_t) const
+{
+  const auto rows = constraint_rows(all_equations);
+  phi.reinit(rows.size());
+  phi_t.reinit(rows.size());
+  B.reinit(rows.size(), nv);
+  unsigned int r0 = 0;
+  for (unsigned int j = 0; j < joints.size(); ++j)
+    {
+      const JointSlot &s = joints[j];
+      JointEvaluation e;
+      s.joint->evaluate(joint_q(j, y), s.joint->n_own_coordinates() ? (y.begin() + (s.own_q)) : nullptr, t, e);
+      std::vector<unsigned int> eqs;
+      if (all_equations)
+        for (unsigned int k = 0; k < s.joint->n_equations(); ++k) eqs.push_back(k);
+      else
+        eqs = s.active;
+      for (unsigned int r = 0; r < eqs.size(); ++r)
+        {
+          phi[r0 + r] = e.phi[eqs[r]];
+          phi_t[r0 + r] = e.phi_t[eqs[r]];
+          for (unsigned int m = 0; m < s.body_index.size(); ++m)
+            for (unsigned int c = 0; c < e.B[m].n(); ++c) B(r0 + r, bodies[s.body_index[m]].v + c) += e.B[m](eqs[r], c);
+          for (unsigned int c = 0; c < e.B_own.n(); ++c) B(r0 + r, s.own_v + c) += e.B_own(eqs[r], c);
+        }
+      r0 += eqs.size();
+    }
+}
+
+void System::move_positions(Vector<double> &y, const Vector<double> &dx) const
+{
+  Vector<double> rate(nq), x(size());
+  for (unsigned int i = 0; i < nv; ++i) x[nq + i] = dx[i];
+  for (unsigned int i = 0; i < nq; ++i) x[i] = y[i]; // T(q) at the current q
+  coordinate_rates(x, rate);
+  for (unsigned int i = 0; i < nq; ++i) y[i] += rate[i];
+  for (const auto &b : bodies)
+    {
+      if (b.body->is_ground()) continue;
+      double *p = (y.begin() + (b.q + 3));
+      const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
+      for (unsigned int i = 0; i < 4; ++i) p[i] /= n;
+    }
+}
+
+void System::coordinate_rates(const Vector<double> &y, Vector<double> &q_dot) const
+{
+  q_dot.reinit(nq);
+  for (const auto &b : bodies)
+    if (!b.body->is_ground()) b.body->coordinate_rates((y.begin() + (b.q)), (y.begin() + (nq + b.v)), &q_dot[b.q]);
+  for (const auto &j : joints)
+    for (unsigned int k = 0; k < j.joint->n_own_coordinates(); ++k) q_dot[j.own_q + k] = y[nq + j.own_v + k];
+}
+} // namespace flextrack::multibody
