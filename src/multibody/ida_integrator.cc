@@ -134,6 +134,9 @@ void IntegratorSettings::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Relative tolerance", "1e-6", Patterns::Double(0), "IDA's relative tolerance [-].");
   prm.declare_entry("Absolute tolerance", "1e-8", Patterns::Double(0),
                     "IDA's absolute tolerance, the same for every unknown [m, rad, modal units, and per s].");
+  prm.declare_entry("Multiplier tolerance", "1e-2", Patterns::Double(0),
+                    "Absolute tolerance of the Lagrange multipliers in IDA's Newton test [N, N m, 1/s] (they "
+                    "are not in the error test).");
   prm.declare_entry("Maximum order", "5", Patterns::Integer(1, 5), "Largest BDF order IDA may use [-].");
   prm.declare_entry("Maximum step", "0", Patterns::Double(0), "Largest time step [s]; 0: no limit.");
   prm.declare_entry("Initial step", "0", Patterns::Double(0), "First time step [s]; 0: IDA's estimate.");
@@ -144,6 +147,7 @@ void IntegratorSettings::parse_parameters(ParameterHandler &prm)
 {
   relative_tolerance = prm.get_double("Relative tolerance");
   absolute_tolerance = prm.get_double("Absolute tolerance");
+  multiplier_tolerance = prm.get_double("Multiplier tolerance");
   max_order = prm.get_integer("Maximum order");
   max_step = prm.get_double("Maximum step");
   initial_step = prm.get_double("Initial step");
@@ -170,12 +174,17 @@ void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
   Vector<double> id;
   system.differential_components(id);
   from_vector(id, sun->id);
+  for (unsigned int i = system.n_q(); i < system.n_q() + system.n_v(); ++i) id[i] = 1; // massless own velocities: v tolerance
 
   sun->ida = IDACreate(sun->context);
   IDASetErrHandlerFn(sun->ida, IdaCallbacks::error_handler, this);
   IDAInit(sun->ida, IdaCallbacks::residual, t0, sun->y, sun->yp);
   IDASetUserData(sun->ida, this);
-  IDASStolerances(sun->ida, settings.relative_tolerance, settings.absolute_tolerance);
+  N_Vector atol = N_VClone(sun->y);
+  for (sunindextype i = 0; i < n; ++i)
+    N_VGetArrayPointer(atol)[i] = id[i] > 0 ? settings.absolute_tolerance : settings.multiplier_tolerance;
+  IDASVtolerances(sun->ida, settings.relative_tolerance, atol);
+  N_VDestroy(atol);
   IDASetId(sun->ida, sun->id);
   IDASetSuppressAlg(sun->ida, SUNTRUE);
   IDASetMaxOrd(sun->ida, settings.max_order);

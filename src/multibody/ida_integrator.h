@@ -30,7 +30,11 @@ using SolverError = reduction::SolverError;
 struct IntegratorSettings
 {
   double relative_tolerance = 1e-6; ///< [-]
-  double absolute_tolerance = 1e-8; ///< [units of each unknown]
+  double absolute_tolerance = 1e-8; ///< [units of q and v]
+  /// Absolute tolerance of the multipliers lambda, mu [N, N m, 1/s]. They are excluded from the
+  /// error test, so this enters only IDA's Newton convergence test, where a tight value fails:
+  /// index-2 multipliers carry roundoff amplified by c_j ~ 1/h (mu ~ eps |q| / h).
+  double multiplier_tolerance = 1e-2;
   unsigned int max_order = 5;       ///< BDF order limit, 1..5
   double max_step = 0;              ///< [s], 0: no limit
   double initial_step = 0;          ///< [s], 0: IDA's choice

@@ -37,9 +37,19 @@ Vector<double> minimum_norm_correction(const LAPACKFullMatrix<double> &W, const 
   Bl = B;
   W.mTmult(WBt, Bl);   // W B^T (W symmetric)
   Bl.mmult(S, WBt);    // B W B^T
-  S.compute_inverse_svd(1e10);
-  Vector<double> z(m), zz(m);
-  S.vmult(z, r);
+  // z = S^+ r from the SVD S = U diag(s) V^T, singular values below 1e-10 s_max dropped
+  // (LAPACKFullMatrix::vmult does not apply the inverse after compute_inverse_svd()).
+  S.compute_svd();
+  const LAPACKFullMatrix<double> &U = S.get_svd_u(), &Vt = S.get_svd_vt();
+  Vector<double> z(m);
+  for (unsigned int i = 0; i < m; ++i)
+    {
+      const double s_i = S.singular_value(i);
+      if (s_i <= 1e-10 * S.singular_value(0)) continue;
+      double c = 0;
+      for (unsigned int k = 0; k < m; ++k) c += U(k, i) * r[k];
+      for (unsigned int k = 0; k < m; ++k) z[k] += Vt(i, k) * c / s_i;
+    }
   WBt.vmult(dx, z);
   dx *= -1;
   return dx;
@@ -66,6 +76,33 @@ double max_abs(const Vector<double> &v) { return v.size() ? v.linfty_norm() : 0.
     << std::setprecision(3) << worst
     << " (m or rad): the joints conflict (a closed loop that cannot close, or redundant joints that disagree), "
        "or the initial positions are too far from an assembled configuration";
+  throw InputError("Joints", s.str());
+}
+
+/// A dropped equation must also hold at velocity level with the projected velocities: a driver
+/// that duplicates what other joints hold fixed (or two drivers of one motion) conflicts there.
+void refuse_conflicting_velocities(const System &system, const double t0, const Vector<double> &y, const double tolerance)
+{
+  Vector<double> phi, phi_t, v(system.n_v());
+  FullMatrix<double> B;
+  system.constraints(t0, y, true, phi, B, phi_t);
+  for (unsigned int i = 0; i < system.n_v(); ++i) v[i] = y[system.n_q() + i];
+  if (B.m()) B.vmult_add(phi_t, v);
+  const auto rows = system.constraint_rows(true);
+  std::string joints;
+  double worst = 0;
+  for (unsigned int r = 0; r < rows.size(); ++r)
+    if (std::abs(phi_t[r]) > 1e3 * tolerance)
+      {
+        const std::string name = system.joint(rows[r].first).name();
+        if (joints.find("'" + name + "'") == std::string::npos) joints += (joints.empty() ? "'" : ", '") + name + "'";
+        worst = std::max(worst, std::abs(phi_t[r]));
+      }
+  if (joints.empty()) return;
+  std::ostringstream s;
+  s << "conflicting joints: the equations of joint(s) " << joints
+    << " depend on those of other joints but prescribe a different motion (velocity mismatch up to "
+    << std::setprecision(3) << worst << " m/s or rad/s), e.g. a driver on a motion that other joints lock";
   throw InputError("Joints", s.str());
 }
 
@@ -188,6 +225,7 @@ InitialConditionReport consistent_initial_conditions(System &system, const doubl
   if (B.m()) B.vmult_add(r, v);
   const Vector<double> dv = minimum_norm_correction(weight_inverse(system, y), B, r);
   for (unsigned int i = 0; i < nv; ++i) y[nq + i] += dv[i];
+  refuse_conflicting_velocities(system, t0, y, settings.tolerance);
   consistent_derivatives(system, t0, y, yp);
 
   system.constraints(t0, y, false, phi, B, phi_t);

@@ -4,6 +4,9 @@
 // slider position) and the four-bar linkage (redundant in 3D: runs, dropped equations named).
 #include "multibody_test_helpers.h"
 
+#include <base/input_error.h>
+#include <multibody/linearization.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -217,4 +220,47 @@ TEST(MultibodyRigid, four_bar_linkage_runs_and_names_dropped_equations)
   std::cout << "  four-bar: max |Phi| (all 20 equations) over 2 s: " << worst << "\n";
   EXPECT_LT(worst, 1e-7); // ~ tolerance x size; the dropped equations hold because they depend on the others
   EXPECT_NEAR(ida.time(), 2.0, 1e-12);
+}
+
+TEST(MultibodyRigid, linearized_pendulum_frequency_matches_closed_form)
+{
+  // Hanging compound pendulum (m = 1.5 kg, L = 0.8 m, J_c = 0.02 kg m^2) linearised at rest:
+  // one mode, w = sqrt(m g L / (m L^2 + J_c)), no damping. The stiffness comes from central
+  // differences (step 1e-6): tolerance 1e-7 relative.
+  const double m = 1.5, L = 0.8, Jc = 0.02, g = 9.81;
+  System s(Vector3({0, -g, 0}));
+  add_rigid(s, "bob", m, diagonal(Jc, Jc, Jc), Vector3({0, -L, 0}));
+  add_joint(s, "revolute", "pivot", "bob", "ground", Vector3(), Vector3({0, 0, 1}));
+  s.finalize();
+  Vector<double> y, yp;
+  consistent_initial_conditions(s, 0, y, yp);
+  const auto modes = linearize(s, 0, y);
+  ASSERT_EQ(modes.size(), 1u);
+  const double f = std::sqrt(m * g * L / (m * L * L + Jc)) / (2 * M_PI);
+  std::cout << "  linearised pendulum: " << modes[0].frequency_hz << " Hz, closed form " << f << " Hz, damping ratio "
+            << modes[0].damping_ratio << "\n";
+  EXPECT_NEAR(modes[0].frequency_hz, f, 1e-7 * f);
+  EXPECT_NEAR(modes[0].damping_ratio, 0, 1e-7);
+}
+
+TEST(MultibodyRigid, conflicting_joints_are_refused_with_their_names)
+{
+  // A block welded to the ground and also driven about z by a revolute driver: the driver's
+  // equations depend on the weld's but prescribe a rotation: an InputError naming the driver.
+  System s;
+  add_rigid(s, "block", 1.0, diagonal(0.1, 0.1, 0.1), Vector3({1, 0, 0}));
+  add_joint(s, "fixed", "weld", "block", "ground", Vector3({1, 0, 0}), Vector3({0, 0, 1}));
+  add_joint(s, "revolute", "spin", "block", "ground", Vector3({1, 0, 0}), Vector3({0, 0, 1}), "0.5*t");
+  s.finalize();
+  Vector<double> y, yp;
+  try
+    {
+      consistent_initial_conditions(s, 0, y, yp);
+      FAIL() << "conflicting joints accepted";
+    }
+  catch (const InputError &e)
+    {
+      std::cout << "  " << e.what() << "\n";
+      EXPECT_NE(std::string(e.what()).find("'spin'"), std::string::npos);
+    }
 }

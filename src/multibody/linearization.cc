@@ -1,0 +1,130 @@
+// Linearisation about a state and the eigenvalues of the constrained system (linearization.h).
+#include <multibody/initial_conditions.h>
+#include <multibody/linearization.h>
+
+#include <deal.II/lac/lapack_full_matrix.h>
+
+#include <algorithm>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+
+namespace
+{
+/// R(x, v) = M(q) v'0 - Q(q, v, t) + B^T lambda0 at q = q0 (+) x.
+Vector<double> equations_of_motion(const System &s, const double t, const Vector<double> &y0, const Vector<double> &vp0,
+                                   const Vector<double> &lambda0, const Vector<double> &x, const Vector<double> &dv)
+{
+  Vector<double> y(y0);
+  s.move_positions(y, x);
+  for (unsigned int i = 0; i < s.n_v(); ++i) y[s.n_q() + i] += dv[i];
+  FullMatrix<double> M, B;
+  Vector<double> Q, phi, phi_t, R(s.n_v());
+  s.mass_matrix(y, M);
+  s.generalized_forces(t, y, Q);
+  s.constraints(t, y, false, phi, B, phi_t);
+  M.vmult(R, vp0);
+  R -= Q;
+  if (B.m()) B.Tvmult_add(R, lambda0);
+  return R;
+}
+
+/// Orthonormal basis (columns) of the null space of B (n_v x n_f).
+FullMatrix<double> null_space(const FullMatrix<double> &B, const unsigned int n)
+{
+  if (B.m() == 0)
+    {
+      FullMatrix<double> N(n, n);
+      for (unsigned int i = 0; i < n; ++i) N(i, i) = 1;
+      return N;
+    }
+  // Right singular vectors of the singular values ~0 (B padded to n x n so that V is complete).
+  LAPACKFullMatrix<double> Bl(n, n);
+  for (unsigned int i = 0; i < B.m(); ++i)
+    for (unsigned int k = 0; k < n; ++k) Bl(i, k) = B(i, k);
+  Bl.compute_svd();
+  const double largest = Bl.singular_value(0);
+  const LAPACKFullMatrix<double> &Vt = Bl.get_svd_vt();
+  std::vector<unsigned int> free;
+  for (unsigned int i = 0; i < n; ++i)
+    if (Bl.singular_value(i) <= 1e-10 * largest) free.push_back(i);
+  FullMatrix<double> N(n, free.size());
+  for (unsigned int c = 0; c < free.size(); ++c)
+    for (unsigned int i = 0; i < n; ++i) N(i, c) = Vt(free[c], i);
+  return N;
+}
+} // namespace
+
+std::vector<LinearMode> linearize(System &system, const double t, const Vector<double> &y_in)
+{
+  const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda();
+  Vector<double> y(y_in), yp;
+  consistent_derivatives(system, t, y, yp);
+  Vector<double> vp0(nv), lambda0(nl);
+  for (unsigned int i = 0; i < nv; ++i) vp0[i] = yp[nq + i];
+  for (unsigned int r = 0; r < nl; ++r) lambda0[r] = y[nq + nv + r];
+
+  FullMatrix<double> K(nv, nv), C(nv, nv), M, B;
+  Vector<double> phi, phi_t;
+  system.mass_matrix(y, M);
+  system.constraints(t, y, false, phi, B, phi_t);
+  for (unsigned int c = 0; c < nv; ++c)
+    {
+      const double h = 1e-6;
+      Vector<double> x(nv), zero(nv);
+      x[c] = h;
+      const Vector<double> kp = equations_of_motion(system, t, y, vp0, lambda0, x, zero),
+                           cp = equations_of_motion(system, t, y, vp0, lambda0, zero, x);
+      x[c] = -h;
+      const Vector<double> km = equations_of_motion(system, t, y, vp0, lambda0, x, zero),
+                           cm = equations_of_motion(system, t, y, vp0, lambda0, zero, x);
+      for (unsigned int r = 0; r < nv; ++r)
+        {
+          K(r, c) = (kp[r] - km[r]) / (2 * h);
+          C(r, c) = (cp[r] - cm[r]) / (2 * h);
+        }
+    }
+  const FullMatrix<double> N = null_space(B, nv);
+  const unsigned int nf = N.n();
+  if (nf == 0) return {};
+  FullMatrix<double> Mr(nf, nf), Kr(nf, nf), Cr(nf, nf);
+  Mr.triple_product(M, N, N, true, false);
+  Kr.triple_product(K, N, N, true, false);
+  Cr.triple_product(C, N, N, true, false);
+
+  // First-order form [0 I; -Mr^-1 Kr  -Mr^-1 Cr]
+  LAPACKFullMatrix<double> Minv(nf);
+  Minv = Mr;
+  Minv.invert();
+  FullMatrix<double> Mi(nf, nf), MK(nf, nf), MC(nf, nf);
+  for (unsigned int i = 0; i < nf; ++i)
+    for (unsigned int k = 0; k < nf; ++k) Mi(i, k) = Minv(i, k);
+  Mi.mmult(MK, Kr);
+  Mi.mmult(MC, Cr);
+  LAPACKFullMatrix<double> A(2 * nf);
+  for (unsigned int i = 0; i < nf; ++i)
+    {
+      A(i, nf + i) = 1;
+      for (unsigned int k = 0; k < nf; ++k)
+        {
+          A(nf + i, k) = -MK(i, k);
+          A(nf + i, nf + k) = -MC(i, k);
+        }
+    }
+  A.compute_eigenvalues();
+  std::vector<LinearMode> modes;
+  for (unsigned int i = 0; i < 2 * nf; ++i)
+    {
+      const std::complex<double> s = A.eigenvalue(i);
+      if (s.imag() < 0) continue; // one of each conjugate pair
+      LinearMode m;
+      m.eigenvalue = s;
+      m.frequency_hz = std::abs(s.imag()) / (2 * M_PI);
+      m.damping_ratio = std::abs(s) > 0 ? -s.real() / std::abs(s) : 0.0;
+      modes.push_back(m);
+    }
+  std::sort(modes.begin(), modes.end(), [](const LinearMode &a, const LinearMode &b) { return a.frequency_hz < b.frequency_hz; });
+  return modes;
+}
+} // namespace flextrack::multibody
