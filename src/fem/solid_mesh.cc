@@ -1,19 +1,26 @@
-#include <fem/fe_serendipity.h>
-#include <base/text.h>
-#include <fem/solid_mesh.h>
+// What the mesh readers share: the SolidMesh methods, the checks of a mesh file and of its text,
+// building the triangulation from the raw elements, the element check, and read_mesh_file.
+// The readers: abaqus_mesh_reader.cc, gmsh_mesh_reader.cc; the generated shapes: generated_meshes.cc.
 #include <base/input_error.h>
+#include <base/names.h>
+#include <fem/fe_serendipity.h>
+#include <fem/raw_mesh.h>
+#include <fem/solid_mesh.h>
 
 #include <deal.II/base/quadrature_lib.h>
-#include <deal.II/grid/grid_generator.h>
-#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <set>
+#include <limits>
 #include <sstream>
 
 namespace flextrack::fem
@@ -32,57 +39,198 @@ Point<3> SolidMesh::position(const MeshNode &node) const
   return node.is_vertex ? triangulation.get_vertices()[node.vertex] : line_midpoint(node.edge.first, node.edge.second);
 }
 
+namespace mesh_reading
+{
 namespace
 {
+/// Lines longer than this are not a mesh file's (Abaqus allows 256 characters).
+constexpr std::size_t max_line_length = std::size_t(1) << 20;
+
+std::string hex_byte(const unsigned char c)
+{
+  char text[8];
+  std::snprintf(text, sizeof text, "0x%02x", c);
+  return text;
+}
+
+std::string kind_of_file(const std::filesystem::file_type type)
+{
+  switch (type)
+    {
+      case std::filesystem::file_type::directory: return "a directory";
+      case std::filesystem::file_type::character: return "a character device (it may never end)";
+      case std::filesystem::file_type::block: return "a block device";
+      case std::filesystem::file_type::fifo: return "a named pipe";
+      case std::filesystem::file_type::socket: return "a socket";
+      default: return "of an unknown kind";
+    }
+}
+} // namespace
+
 std::string upper(std::string s)
 {
   for (auto &c : s) c = std::toupper(static_cast<unsigned char>(c));
   return s;
 }
-using base::trim;
-/// Value of KEY=VALUE in a keyword line ("" if absent).
-std::string option(const std::string &keyword_line, const std::string &key)
+
+void check_mesh_file(const std::string &file, const std::string &entry, const std::string &kind)
 {
-  std::istringstream in(keyword_line);
-  std::string item;
-  while (std::getline(in, item, ','))
-    {
-      const auto eq = item.find('=');
-      if (eq != std::string::npos && upper(trim(item.substr(0, eq))) == key) return trim(item.substr(eq + 1));
-    }
-  return "";
-}
-std::vector<long> integers(const std::string &line, const std::string &where)
-{
-  std::vector<long> v;
-  std::istringstream in(line);
-  std::string item;
-  while (std::getline(in, item, ','))
-    {
-      item = trim(item);
-      if (item.empty()) continue;
-      try { v.push_back(std::stol(item)); }
-      catch (...) { throw InputError("", where + ": '" + item + "' is not an integer"); }
-    }
-  return v;
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(file, error);
+  if (status.type() == fs::file_type::not_found)
+    throw InputError(entry, "cannot open the mesh file '" + file + "': it does not exist; give an existing " + kind);
+  if (error)
+    throw InputError(entry, "cannot open the mesh file '" + file + "': " + error.message() + "; give a readable " +
+                            kind);
+  if (status.type() != fs::file_type::regular)
+    throw InputError(entry, "the mesh file '" + file + "' is " + kind_of_file(status.type()) +
+                            ", not a regular file; give an existing " + kind);
+  const std::uintmax_t size = fs::file_size(file, error);
+  if (error)
+    throw InputError(entry, "cannot open the mesh file '" + file + "': " + error.message() + "; give a readable " +
+                            kind);
+  if (size > max_file_size)
+    throw InputError(entry, "the mesh file '" + file + "' has " + std::to_string(size) +
+                            " bytes; a mesh file may have at most 1 GiB (" + std::to_string(max_file_size) + " bytes)");
 }
 
+MeshText::MeshText(const std::string &file_name, const std::string &entry_name, const std::string &kind)
+  : file(file_name), entry(entry_name)
+{
+  check_mesh_file(file, entry, kind);
+  std::error_code error;
+  size = std::filesystem::file_size(file, error);
+  in.open(file, std::ios::binary);
+  if (!in)
+    throw InputError(entry, "cannot open the mesh file '" + file + "': " + std::strerror(errno) +
+                            "; give a readable " + kind);
+}
+
+bool MeshText::next(std::string &line)
+{
+  line.clear();
+  std::streambuf *buffer = in.rdbuf();
+  bool any = false;
+  for (int c; (c = buffer->sbumpc()) != std::char_traits<char>::eof();)
+    {
+      any = true;
+      // The file's size was checked on opening; this bound holds even if it grows meanwhile.
+      if (++bytes_read > max_file_size) fail_at(number + 1, "more than 1 GiB read; a mesh file may have at most 1 GiB");
+      if (c == '\n') break;
+      if (line.size() >= max_line_length)
+        fail_at(number + 1, "a line of more than 1 MiB; this is not a mesh file (a text file of short lines)");
+      line.push_back(static_cast<char>(c));
+    }
+  if (!any) return false;
+  ++number;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (number == 1 && line.size() >= 2 &&
+      ((line[0] == '\xff' && line[1] == '\xfe') || (line[0] == '\xfe' && line[1] == '\xff')))
+    fail("the file is UTF-16 text; save it as ASCII (or UTF-8) text");
+  if (number == 1 && line.rfind("\xef\xbb\xbf", 0) == 0) line.erase(0, 3); // a UTF-8 byte order mark
+  for (const char c : line)
+    {
+      const auto u = static_cast<unsigned char>(c);
+      if ((u < 0x20 && c != '\t' && c != '\v' && c != '\f') || u == 0x7f)
+        fail("not a text file: the line holds the byte " + hex_byte(u) + " ('" + base::printable_excerpt(line, 40) +
+             "'); a mesh file is ASCII text (binary and UTF-16 files cannot be read)");
+    }
+  return true;
+}
+
+std::string MeshText::next_or_fail()
+{
+  std::string line;
+  if (!next(line))
+    throw InputError(entry, "'" + file + "' ends early (line " + std::to_string(number) +
+                            "); it is not a complete mesh");
+  return line;
+}
+
+std::string MeshText::where(const int line) const { return file + ", line " + std::to_string(line); }
+
+void MeshText::fail(const std::string &what) const { fail_at(number, what); }
+
+void MeshText::fail_at(const int line, const std::string &what) const
+{
+  throw InputError(entry, "cannot read " + where(line) + ": " + what);
+}
+
+long MeshText::integer(const std::string &word, const std::string &what) const
+{
+  errno = 0;
+  char *end = nullptr;
+  const bool blank = word.empty() || std::isspace(static_cast<unsigned char>(word[0]));
+  const long value = blank ? 0 : std::strtol(word.c_str(), &end, 10);
+  if (end != word.c_str() + word.size() || errno == ERANGE)
+    fail("'" + base::printable_excerpt(word, 30) + "' is not " + what + " (a whole number of at most 18 digits)");
+  return value;
+}
+
+double MeshText::coordinate(const std::string &word, const long node) const
+{
+  const auto parse = [](const std::string &text, double &x) {
+    char *end = nullptr;
+    x = text.empty() || std::isspace(static_cast<unsigned char>(text[0])) ? 0 : std::strtod(text.c_str(), &end);
+    return end ? static_cast<std::size_t>(end - text.c_str()) : 0; // characters used
+  };
+  double x = 0;
+  std::size_t used = parse(word, x);
+  if (used < word.size() && (word[used] == 'd' || word[used] == 'D')) // Fortran's 1.5D+03
+    used = parse(word.substr(0, used) + 'e' + word.substr(used + 1), x);
+  if (used != word.size() || word.empty())
+    fail("node " + std::to_string(node) + ": '" + base::printable_excerpt(word, 30) + "' is not a number");
+  if (!(std::abs(x) <= max_coordinate))
+    fail("node " + std::to_string(node) + ": the coordinate '" + base::printable_excerpt(word, 30) +
+         "' is not allowed; a coordinate is a finite number from -1e9 to 1e9 m");
+  return x;
+}
+
+long MeshText::count(const std::string &word, const std::string &what, const std::uintmax_t bytes_per_item) const
+{
+  const long n = integer(word, "a count of " + what);
+  const std::uintmax_t rest = size > bytes_read ? size - bytes_read : 0, most = rest / bytes_per_item;
+  if (n < 0 || static_cast<std::uintmax_t>(n) > most)
+    fail(std::to_string(n) + " " + what + " announced, but the rest of the file (" + std::to_string(rest) +
+         " bytes) can hold at most " + std::to_string(most) + "; allowed: a count from 0 to " + std::to_string(most));
+  return n;
+}
+
+void RawMesh::add_node(const MeshText &text, const long id, const Point<3> &position)
+{
+  const auto [it, added] = nodes.emplace(id, std::make_pair(position, text.line_number()));
+  if (!added)
+    text.fail("node " + std::to_string(id) + " is defined a second time (first at line " +
+              std::to_string(it->second.second) + "); node numbers must be unique");
+}
+
+void RawMesh::add_element(const MeshText &text, RawElement &&element)
+{
+  const auto [it, added] = element_lines.emplace(element.id, element.line);
+  if (!added)
+    text.fail_at(element.line, "element " + std::to_string(element.id) + " is defined a second time (first at line " +
+                                   std::to_string(it->second) + "); element numbers must be unique");
+  elements.push_back(std::move(element));
+}
+
+void RawMesh::count_set_members(const MeshText &text, const int line, const std::size_t more)
+{
+  const std::size_t budget = std::max<std::size_t>(10'000'000, 64 * nodes.size());
+  if (more > budget - std::min(budget, n_set_members))
+    text.fail_at(line, "the node sets would hold more than " + std::to_string(budget) +
+                           " members in all; allowed: at most 64 per node of the mesh (or 10000000)");
+  n_set_members += more;
+}
+
+namespace
+{
 // Abaqus hexahedron corners 1..8 -> deal.II's lexicographic vertex numbers.
 constexpr unsigned int abaqus_to_deal[8] = {0, 1, 3, 2, 4, 5, 7, 6};
 // Abaqus mid-side nodes 9..20 lie on these corner pairs (Abaqus numbering, 0-based).
 constexpr unsigned int abaqus_edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
                                               {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 
-struct RawElement
-{
-  long id;
-  int line;
-  std::vector<long> nodes;
-};
-} // namespace
-
-namespace
-{
 /// Throws if the 20-node map with nodes @p x (deal.II order) is inverted or degenerate at a
 /// 3x3x3 Gauss point.
 void check_element(const std::array<Point<3>, 20> &x, const std::string &label, const std::string &source,
@@ -97,81 +245,44 @@ void check_element(const std::array<Point<3>, 20> &x, const std::string &label, 
       for (unsigned int i = 0; i < 20; ++i) g[q][i] = N.compute_grad(i, gauss.point(q));
     return g;
   }();
-  {
+  double smallest = std::numeric_limits<double>::max(), largest = 0;
+  for (const auto &grad : gradients)
     {
-      double smallest = std::numeric_limits<double>::max(), largest = 0;
-      for (const auto &grad : gradients)
-        {
-          Tensor<2, 3> J;
-          for (unsigned int i = 0; i < 20; ++i) J += outer_product(x[i], grad[i]);
-          smallest = std::min(smallest, determinant(J));
-          largest = std::max(largest, std::abs(determinant(J)));
-        }
-      if (!(smallest > 1e-10 * largest))
-        {
-          std::ostringstream m;
-          m << label << " of '" << source << "' is inverted or degenerate: its Jacobian determinant "
-            << "reaches " << smallest << " (must stay > 0); check its node order (Abaqus: corners 1-4 "
-            << "counter-clockwise, 5-8 above them) and its mid-side node positions";
-          throw InputError(entry, m.str());
-        }
+      Tensor<2, 3> J;
+      for (unsigned int i = 0; i < 20; ++i) J += outer_product(x[i], grad[i]);
+      smallest = std::min(smallest, determinant(J));
+      largest = std::max(largest, std::abs(determinant(J)));
     }
-  }
+  if (!(smallest > 1e-10 * largest))
+    {
+      std::ostringstream m;
+      m << label << " of '" << source << "' is inverted or degenerate: its Jacobian determinant "
+        << "reaches " << smallest << " (must stay > 0); check its node order (Abaqus: corners 1-4 "
+        << "counter-clockwise, 5-8 above them) and its mid-side node positions";
+      throw InputError(entry, m.str());
+    }
 }
-} // namespace
 
-namespace
+/// Refuses two elements on the same corner nodes: they would fill the same space twice.
+void refuse_coincident_elements(const MeshText &text, const RawMesh &raw)
 {
-/// Build the mesh from elements given with Abaqus node order (8 corners, then 12 mid-sides or
-/// none), node coordinates and node sets by node id.
-std::unique_ptr<SolidMesh> build_mesh(const std::string &file, const std::string &entry,
-                                      std::map<long, Point<3>> &nodes, const std::vector<RawElement> &elements,
-                                      const std::map<std::string, std::vector<long>> &sets)
+  std::map<std::array<long, 8>, const RawElement *> seen;
+  for (const auto &e : raw.elements)
+    {
+      std::array<long, 8> corners;
+      std::copy(e.nodes.begin(), e.nodes.begin() + 8, corners.begin());
+      std::sort(corners.begin(), corners.end());
+      if (const auto [it, added] = seen.emplace(corners, &e); !added)
+        text.fail_at(e.line, "element " + std::to_string(e.id) + " has the corner nodes of element " +
+                                 std::to_string(it->second->id) + " (line " + std::to_string(it->second->line) +
+                                 "); two elements may not fill the same space");
+    }
+}
+
+/// Refuses inverted or degenerate cells, naming them, before deal.II sees the mesh.
+void check_elements(const std::vector<Point<3>> &vertices, const std::vector<CellData<3>> &cells,
+                    const SolidMesh &mesh, const std::string &entry)
 {
-  auto where = [&](int l) { return file + ", line " + std::to_string(l); };
-  auto mesh = std::make_unique<SolidMesh>();
-  mesh->source = file;
-  // Vertices: the corner nodes used by elements, numbered in order of node id.
-  std::map<long, unsigned int> vertex_of;
-  std::vector<Point<3>> vertices;
-  for (const auto &e : elements)
-    for (unsigned int k = 0; k < 8; ++k)
-      {
-        if (!nodes.count(e.nodes[k]))
-          throw InputError(entry, "element " + std::to_string(e.id) + " at " + where(e.line) + " uses node " +
-                           std::to_string(e.nodes[k]) + ", which is not defined under *NODE");
-        if (vertex_of.emplace(e.nodes[k], vertices.size()).second) vertices.push_back(nodes[e.nodes[k]]);
-      }
-  std::vector<CellData<3>> cells(elements.size());
-  std::map<long, MeshNode> node_ref; // file node id -> mesh node
-  for (const auto &[id, v] : vertex_of) node_ref[id] = MeshNode{true, v, {0, 0}};
-  for (std::size_t c = 0; c < elements.size(); ++c)
-    {
-      const auto &e = elements[c];
-      for (unsigned int k = 0; k < 8; ++k) cells[c].vertices[abaqus_to_deal[k]] = vertex_of[e.nodes[k]];
-      for (unsigned int k = 0; k < 12; ++k)
-        {
-          const unsigned int a = vertex_of[e.nodes[abaqus_edges[k][0]]], b = vertex_of[e.nodes[abaqus_edges[k][1]]];
-          const auto key = ordered_edge(a, b);
-          if (e.nodes.size() == 20)
-            {
-              const long mid = e.nodes[8 + k];
-              if (!nodes.count(mid))
-                throw InputError(entry, "element " + std::to_string(e.id) + " at " + where(e.line) + " uses node " +
-                                 std::to_string(mid) + ", which is not defined under *NODE");
-              mesh->midside[key] = nodes[mid];
-              node_ref[mid] = MeshNode{false, 0, key};
-            }
-        }
-      mesh->element_labels.push_back("element " + std::to_string(e.id) + " (" + where(e.line) + ")");
-    }
-  for (const auto &[name, ids] : sets)
-    {
-      auto &set = mesh->node_sets[name];
-      for (const long id : ids)
-        if (const auto it = node_ref.find(id); it != node_ref.end()) set.push_back(it->second);
-    }
-  // Refuse inverted or degenerate elements, naming them, before deal.II sees the mesh.
   for (std::size_t c = 0; c < cells.size(); ++c)
     {
       std::array<Point<3>, 20> x;
@@ -180,432 +291,88 @@ std::unique_ptr<SolidMesh> build_mesh(const std::string &file, const std::string
         {
           const unsigned int a = cells[c].vertices[GeometryInfo<3>::line_to_cell_vertices(l, 0)];
           const unsigned int b = cells[c].vertices[GeometryInfo<3>::line_to_cell_vertices(l, 1)];
-          const auto it = mesh->midside.find(ordered_edge(a, b));
-          x[8 + l] = it != mesh->midside.end() ? it->second : 0.5 * (vertices[a] + vertices[b]);
+          const auto it = mesh.midside.find(ordered_edge(a, b));
+          x[8 + l] = it != mesh.midside.end() ? it->second : 0.5 * (vertices[a] + vertices[b]);
         }
-      check_element(x, mesh->element_labels[c], file, entry);
+      check_element(x, mesh.element_labels[c], mesh.source, entry);
     }
+}
+
+/// Node sets by mesh node; refuses members that name no defined node.
+void add_node_sets(const MeshText &text, const RawMesh &raw, const std::map<long, MeshNode> &node_ref, SolidMesh &mesh)
+{
+  for (const auto &[name, members] : raw.sets)
+    {
+      auto &set = mesh.node_sets[name];
+      for (const auto &member : members)
+        if (const auto it = node_ref.find(member.node); it != node_ref.end())
+          set.push_back(it->second);
+        else if (!raw.nodes.count(member.node))
+          text.fail_at(member.line, "node set '" + base::printable_excerpt(name) + "' names node " +
+                                        std::to_string(member.node) + ", which is not defined under " +
+                                        raw.node_section);
+    }
+}
+} // namespace
+
+/// Build the mesh from elements given with Abaqus node order (8 corners, then 12 mid-sides or
+/// none), node coordinates and node sets by node id.
+std::unique_ptr<SolidMesh> build_mesh(const MeshText &text, const RawMesh &raw)
+{
+  const std::string &file = text.file, &entry = text.entry;
+  refuse_coincident_elements(text, raw);
+  auto mesh = std::make_unique<SolidMesh>();
+  mesh->source = file;
+  auto position = [&](const RawElement &e, const long id) {
+    const auto it = raw.nodes.find(id);
+    if (it == raw.nodes.end())
+      throw InputError(entry, "element " + std::to_string(e.id) + " at " + text.where(e.line) + " uses node " +
+                              std::to_string(id) + ", which is not defined under " + raw.node_section);
+    return it->second.first;
+  };
+  // Vertices: the corner nodes used by elements, numbered in order of first use.
+  std::map<long, unsigned int> vertex_of;
+  std::vector<Point<3>> vertices;
+  for (const auto &e : raw.elements)
+    for (unsigned int k = 0; k < 8; ++k)
+      {
+        const Point<3> x = position(e, e.nodes[k]);
+        if (vertex_of.emplace(e.nodes[k], vertices.size()).second) vertices.push_back(x);
+      }
+  std::vector<CellData<3>> cells(raw.elements.size());
+  std::map<long, MeshNode> node_ref; // file node id -> mesh node
+  for (const auto &[id, v] : vertex_of) node_ref[id] = MeshNode{true, v, {0, 0}};
+  for (std::size_t c = 0; c < raw.elements.size(); ++c)
+    {
+      const auto &e = raw.elements[c];
+      for (unsigned int k = 0; k < 8; ++k) cells[c].vertices[abaqus_to_deal[k]] = vertex_of[e.nodes[k]];
+      for (unsigned int k = 0; k < 12; ++k)
+        {
+          const unsigned int a = vertex_of[e.nodes[abaqus_edges[k][0]]], b = vertex_of[e.nodes[abaqus_edges[k][1]]];
+          const auto key = ordered_edge(a, b);
+          if (e.nodes.size() == 20)
+            {
+              const long mid = e.nodes[8 + k];
+              mesh->midside[key] = position(e, mid);
+              node_ref[mid] = MeshNode{false, 0, key};
+            }
+        }
+      mesh->element_labels.push_back("element " + std::to_string(e.id) + " (" + text.where(e.line) + ")");
+    }
+  add_node_sets(text, raw, node_ref, *mesh);
+  check_elements(vertices, cells, *mesh, entry);
   mesh->triangulation.create_triangulation(vertices, cells, SubCellData());
   return mesh;
 }
-} // namespace
-
-std::unique_ptr<SolidMesh> read_abaqus_mesh(const std::string &file, const std::string &entry)
-{
-  std::ifstream in(file);
-  if (!in)
-    throw InputError(entry, "cannot open the mesh file '" + file + "'; give an existing Abaqus/CalculiX .inp file");
-  std::map<long, Point<3>> nodes;
-  std::vector<RawElement> elements;
-  std::map<std::string, std::vector<long>> sets;
-  enum class Block { none, node, element, nset } block = Block::none;
-  bool generate = false;
-  std::string set_name;
-  int nodes_per_element = 0;
-  std::string line;
-  int number = 0;
-  std::vector<long> pending; // an element's node list may continue on the next line
-  int pending_line = 0;
-  auto where = [&](int l) { return file + ", line " + std::to_string(l); };
-
-  while (std::getline(in, line))
-    {
-      ++number;
-      const std::string t = trim(line);
-      if (t.empty() || t.rfind("**", 0) == 0) continue;
-      if (t[0] == '*')
-        {
-          const std::string key = upper(trim(t.substr(1, t.find(',') == std::string::npos ? std::string::npos : t.find(',') - 1)));
-          block = Block::none;
-          if (key == "NODE" && option(t, "NSET").empty() && true)
-            block = Block::node;
-          else if (key == "NODE")
-            block = Block::node;
-          else if (key == "ELEMENT")
-            {
-              const std::string type = upper(option(t, "TYPE"));
-              if (type == "C3D8" || type == "C3D8R" || type == "C3D8I")
-                nodes_per_element = 8;
-              else if (type == "C3D20" || type == "C3D20R")
-                nodes_per_element = 20;
-              else
-                throw InputError(entry, "unsupported element type '" + type + "' at " + where(number) +
-                                 "; allowed: hexahedra C3D8, C3D8R, C3D8I, C3D20, C3D20R (tetrahedra, wedges, "
-                                 "shells and beams cannot be read)");
-              block = Block::element;
-            }
-          else if (key == "NSET")
-            {
-              set_name = upper(option(t, "NSET"));
-              generate = upper(t).find("GENERATE") != std::string::npos;
-              block = Block::nset;
-            }
-          continue;
-        }
-      if (block == Block::node)
-        {
-          std::istringstream fields(t);
-          std::string id, x, y, z;
-          std::getline(fields, id, ',');
-          std::getline(fields, x, ',');
-          std::getline(fields, y, ',');
-          std::getline(fields, z, ',');
-          try
-            {
-              nodes[std::stol(id)] = Point<3>(std::stod(x), std::stod(y), z.empty() ? 0.0 : std::stod(z));
-            }
-          catch (...)
-            {
-              throw InputError(entry, "a node line must be 'id, x, y, z' at " + where(number));
-            }
-        }
-      else if (block == Block::element)
-        {
-          const auto v = integers(t, where(number));
-          if (pending.empty()) pending_line = number;
-          pending.insert(pending.end(), v.begin(), v.end());
-          if (static_cast<int>(pending.size()) >= nodes_per_element + 1)
-            {
-              if (static_cast<int>(pending.size()) > nodes_per_element + 1)
-                throw InputError(entry, "element with more than " + std::to_string(nodes_per_element) +
-                                 " nodes at " + where(pending_line));
-              elements.push_back({pending[0], pending_line, std::vector<long>(pending.begin() + 1, pending.end())});
-              pending.clear();
-            }
-        }
-      else if (block == Block::nset)
-        {
-          const auto v = integers(t, where(number));
-          auto &set = sets[set_name];
-          if (generate && v.size() >= 2)
-            for (long k = v[0]; k <= v[1]; k += v.size() > 2 ? v[2] : 1) set.push_back(k);
-          else
-            set.insert(set.end(), v.begin(), v.end());
-        }
-    }
-  if (!pending.empty())
-    throw InputError(entry, "the element at " + where(pending_line) + " has too few nodes");
-  if (elements.empty())
-    throw InputError(entry, "'" + file + "' holds no hexahedral elements (*ELEMENT, TYPE=C3D8 or C3D20)");
-  return build_mesh(file, entry, nodes, elements, sets);
-}
-
-
-namespace
-{
-// Gmsh element types (Gmsh reference manual, "MSH file format"): what they are called.
-std::string gmsh_type_name(const int type)
-{
-  static const std::map<int, std::string> names = {
-    {1, "2-node line"},     {2, "3-node triangle"},     {3, "4-node quadrangle"}, {4, "4-node tetrahedron"},
-    {5, "8-node hexahedron"}, {6, "6-node prism"},      {7, "5-node pyramid"},    {8, "3-node line"},
-    {9, "6-node triangle"}, {10, "9-node quadrangle"},  {11, "10-node tetrahedron"},
-    {12, "27-node hexahedron"}, {13, "18-node prism"},  {14, "14-node pyramid"},  {15, "1-node point"},
-    {16, "8-node quadrangle"}, {17, "20-node hexahedron"}, {18, "15-node prism"}, {19, "13-node pyramid"}};
-  const auto it = names.find(type);
-  return it != names.end() ? it->second : "type " + std::to_string(type);
-}
-// Nodes per element type; 0 for types this reader does not know.
-int gmsh_nodes_per_element(const int type)
-{
-  static const std::map<int, int> n = {{1, 2}, {2, 3}, {3, 4}, {4, 4}, {5, 8}, {6, 6}, {7, 5}, {8, 3}, {9, 6},
-                                       {10, 9}, {11, 10}, {12, 27}, {13, 18}, {14, 14}, {15, 1}, {16, 8},
-                                       {17, 20}, {18, 15}, {19, 13}};
-  const auto it = n.find(type);
-  return it != n.end() ? it->second : 0;
-}
-bool gmsh_is_volume(const int type) { return type == 4 || (type >= 5 && type <= 7) || (type >= 11 && type <= 14) || type >= 17; }
-
-// Gmsh's 20-node hexahedron lists its mid-side nodes on edges (0,1) (0,3) (0,4) (1,2) (1,5)
-// (2,3) (2,6) (3,7) (4,5) (4,7) (5,6) (6,7); Abaqus' order is (0,1) (1,2) (2,3) (3,0) (4,5)
-// (5,6) (6,7) (7,4) (0,4) (1,5) (2,6) (3,7). Corners agree.
-constexpr unsigned int gmsh_to_abaqus_midside[12] = {0, 3, 8, 1, 9, 2, 10, 11, 4, 7, 5, 6};
-
-/// Add a hexahedron (Gmsh order) to the elements, or refuse other volume elements.
-void add_gmsh_element(const long id, const int type, const std::vector<long> &gmsh_nodes, const int line,
-                      const std::string &file, const std::string &entry, std::vector<RawElement> &elements)
-{
-  if (type != 5 && type != 17)
-    throw InputError(entry, "unsupported element: " + gmsh_type_name(type) + " (element " + std::to_string(id) +
-                     ") at " + file + ", line " + std::to_string(line) +
-                     "; allowed volume elements: 8-node and 20-node hexahedra (Gmsh types 5 and 17)");
-  RawElement e{id, line, std::vector<long>(gmsh_nodes.begin(), gmsh_nodes.begin() + 8)};
-  if (type == 17)
-    {
-      e.nodes.resize(20);
-      for (unsigned int m = 0; m < 12; ++m) e.nodes[8 + gmsh_to_abaqus_midside[m]] = gmsh_nodes[8 + m];
-    }
-  elements.push_back(std::move(e));
-}
-} // namespace
-
-std::unique_ptr<SolidMesh> read_gmsh_mesh(const std::string &file, const std::string &entry)
-{
-  std::ifstream in(file);
-  if (!in)
-    throw InputError(entry, "cannot open the mesh file '" + file + "'; give an existing Gmsh .msh file");
-  std::map<long, Point<3>> nodes;
-  std::vector<RawElement> elements;
-  std::map<std::string, std::vector<long>> sets;
-  std::map<std::pair<int, int>, std::string> physical_names;      // (dim, tag) -> name
-  std::map<std::pair<int, int>, std::vector<int>> entity_physicals; // v4: (dim, entity) -> physical tags
-  double version = 0;
-  int line_number = 0;
-  std::string line;
-  auto next_line = [&]() {
-    if (!std::getline(in, line))
-      throw InputError(entry, "'" + file + "' ends early (line " + std::to_string(line_number) + "); it is not a complete Gmsh mesh");
-    ++line_number;
-    return std::istringstream(line);
-  };
-  auto fail = [&](const std::string &what) {
-    throw InputError(entry, "cannot read " + file + ", line " + std::to_string(line_number) + ": " + what);
-  };
-  auto set_name = [&](int dim, int tag) {
-    const auto it = physical_names.find({dim, tag});
-    return it != physical_names.end() ? upper(it->second) : "PHYSICAL_" + std::to_string(tag);
-  };
-  auto add_to_sets = [&](const std::vector<int> &physicals, int dim, const std::vector<long> &element_nodes) {
-    for (const int tag : physicals)
-      {
-        auto &set = sets[set_name(dim, tag)];
-        set.insert(set.end(), element_nodes.begin(), element_nodes.end());
-      }
-  };
-
-  while (std::getline(in, line))
-    {
-      ++line_number;
-      const std::string section = trim(line);
-      if (section == "$MeshFormat")
-        {
-          auto f = next_line();
-          int binary = 0;
-          f >> version >> binary;
-          if (binary != 0) fail("binary .msh files are not supported; save the mesh as ASCII");
-          if (!(version >= 2 && version < 3) && !(version >= 4.1 && version < 5))
-            fail("MSH format version " + std::to_string(version) + " is not supported; allowed: 2.2 and 4.1 (ASCII)");
-        }
-      else if (section == "$PhysicalNames")
-        {
-          int n = 0;
-          next_line() >> n;
-          for (int i = 0; i < n; ++i)
-            {
-              auto f = next_line();
-              int dim, tag;
-              std::string name;
-              f >> dim >> tag;
-              std::getline(f, name);
-              name = trim(name);
-              if (name.size() >= 2 && name.front() == '"') name = name.substr(1, name.size() - 2);
-              physical_names[{dim, tag}] = name;
-            }
-        }
-      else if (section == "$Entities")
-        {
-          int count[4];
-          auto f = next_line();
-          f >> count[0] >> count[1] >> count[2] >> count[3];
-          for (int dim = 0; dim < 4; ++dim)
-            for (int i = 0; i < count[dim]; ++i)
-              {
-                auto e = next_line();
-                int tag, n_physical;
-                double box;
-                e >> tag;
-                for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) e >> box;
-                e >> n_physical;
-                auto &list = entity_physicals[{dim, tag}];
-                for (int k = 0; k < n_physical; ++k)
-                  {
-                    int physical;
-                    e >> physical;
-                    list.push_back(std::abs(physical));
-                  }
-              }
-        }
-      else if (section == "$Nodes")
-        {
-          if (version < 3)
-            {
-              long n = 0;
-              next_line() >> n;
-              for (long i = 0; i < n; ++i)
-                {
-                  auto f = next_line();
-                  long id;
-                  Point<3> p;
-                  if (!(f >> id >> p[0] >> p[1] >> p[2])) fail("a node line must be 'id x y z'");
-                  nodes[id] = p;
-                }
-            }
-          else
-            {
-              long blocks = 0, n = 0, min_tag, max_tag;
-              next_line() >> blocks >> n >> min_tag >> max_tag;
-              for (long b = 0; b < blocks; ++b)
-                {
-                  int dim, tag, parametric;
-                  long count;
-                  next_line() >> dim >> tag >> parametric >> count;
-                  std::vector<long> ids(count);
-                  for (auto &id : ids) next_line() >> id;
-                  for (const long id : ids)
-                    {
-                      auto f = next_line();
-                      Point<3> p;
-                      if (!(f >> p[0] >> p[1] >> p[2])) fail("a node line must be 'x y z'");
-                      nodes[id] = p;
-                    }
-                }
-            }
-        }
-      else if (section == "$Elements")
-        {
-          if (version < 3)
-            {
-              long n = 0;
-              next_line() >> n;
-              for (long i = 0; i < n; ++i)
-                {
-                  auto f = next_line();
-                  long id;
-                  int type, n_tags;
-                  f >> id >> type >> n_tags;
-                  std::vector<int> tags(n_tags);
-                  for (auto &t : tags) f >> t;
-                  const int per = gmsh_nodes_per_element(type);
-                  if (per == 0) fail("unknown element type " + std::to_string(type));
-                  std::vector<long> element_nodes(per);
-                  for (auto &v : element_nodes)
-                    if (!(f >> v)) fail("element " + std::to_string(id) + " has too few nodes");
-                  if (gmsh_is_volume(type))
-                    add_gmsh_element(id, type, element_nodes, line_number, file, entry, elements);
-                  else if (n_tags > 0 && tags[0] != 0)
-                    add_to_sets({tags[0]}, type == 15 ? 0 : (type == 1 || type == 8) ? 1 : 2, element_nodes);
-                }
-            }
-          else
-            {
-              long blocks = 0, n = 0, min_tag, max_tag;
-              next_line() >> blocks >> n >> min_tag >> max_tag;
-              for (long b = 0; b < blocks; ++b)
-                {
-                  int dim, tag, type;
-                  long count;
-                  next_line() >> dim >> tag >> type >> count;
-                  const int per = gmsh_nodes_per_element(type);
-                  if (per == 0) fail("unknown element type " + std::to_string(type));
-                  for (long i = 0; i < count; ++i)
-                    {
-                      auto f = next_line();
-                      long id;
-                      f >> id;
-                      std::vector<long> element_nodes(per);
-                      for (auto &v : element_nodes)
-                        if (!(f >> v)) fail("element " + std::to_string(id) + " has too few nodes");
-                      if (dim == 3)
-                        add_gmsh_element(id, type, element_nodes, line_number, file, entry, elements);
-                      else if (const auto it = entity_physicals.find({dim, tag}); it != entity_physicals.end())
-                        add_to_sets(it->second, dim, element_nodes);
-                    }
-                }
-            }
-        }
-    }
-  if (version == 0)
-    throw InputError(entry, "'" + file + "' is not a Gmsh mesh (no $MeshFormat section)");
-  if (elements.empty())
-    throw InputError(entry, "'" + file + "' holds no hexahedra (Gmsh element types 5 or 17)");
-  for (auto &[name, ids] : sets)
-    {
-      std::sort(ids.begin(), ids.end());
-      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    }
-  return build_mesh(file, entry, nodes, elements, sets);
-}
+} // namespace mesh_reading
 
 std::unique_ptr<SolidMesh> read_mesh_file(const std::string &file, const std::string &entry)
 {
-  const std::string extension = upper(std::filesystem::path(file).extension().string());
+  mesh_reading::check_mesh_file(file, entry, "Abaqus/CalculiX .inp or Gmsh .msh file");
+  const std::string extension = mesh_reading::upper(std::filesystem::path(file).extension().string());
   if (extension == ".INP") return read_abaqus_mesh(file, entry);
   if (extension == ".MSH") return read_gmsh_mesh(file, entry);
   throw InputError(entry, "cannot tell the format of '" + file + "' from its extension; allowed: .inp "
                    "(Abaqus/CalculiX) and .msh (Gmsh 2.2 or 4.1, ASCII)");
-}
-
-std::unique_ptr<SolidMesh> generate_box(const Point<3> &size, const std::array<unsigned int, 3> &n)
-{
-  auto mesh = std::make_unique<SolidMesh>();
-  std::ostringstream d;
-  d << "box " << size[0] << " x " << size[1] << " x " << size[2] << " m, " << n[0] << " x " << n[1] << " x " << n[2]
-    << " cells";
-  mesh->source = d.str();
-  GridGenerator::subdivided_hyper_rectangle(mesh->triangulation, {n[0], n[1], n[2]}, Point<3>(), size);
-  const auto &x = mesh->triangulation.get_vertices();
-  const char *names[6] = {"XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"};
-  auto on_face = [&](const Point<3> &p, unsigned int f) {
-    const unsigned int axis = f / 2;
-    return std::abs(p[axis] - (f % 2 ? size[axis] : 0.0)) <= 1e-12 * size.norm();
-  };
-  std::set<std::pair<unsigned int, unsigned int>> edges;
-  for (const auto &cell : mesh->triangulation.active_cell_iterators())
-    for (unsigned int l = 0; l < 12; ++l)
-      {
-        const auto key = ordered_edge(cell->line(l)->vertex_index(0), cell->line(l)->vertex_index(1));
-        edges.insert({key.first, key.second});
-      }
-  for (unsigned int f = 0; f < 6; ++f)
-    {
-      auto &set = mesh->node_sets[names[f]];
-      for (unsigned int v = 0; v < x.size(); ++v)
-        if (on_face(x[v], f)) set.push_back(MeshNode{true, v, {0, 0}});
-      for (const auto &e : edges)
-        if (on_face(x[e.first], f) && on_face(x[e.second], f)) set.push_back(MeshNode{false, 0, e});
-    }
-  for (unsigned int c = 0; c < mesh->triangulation.n_active_cells(); ++c)
-    mesh->element_labels.push_back("cell " + std::to_string(c + 1));
-  return mesh;
-}
-
-
-
-std::unique_ptr<SolidMesh> generate_cylinder(const double radius, const double length, const unsigned int n_axial)
-{
-  auto mesh = std::make_unique<SolidMesh>();
-  std::ostringstream d;
-  d << "cylinder R = " << radius << " m, L = " << length << " m, " << n_axial << " cells along the axis";
-  mesh->source = d.str();
-  Triangulation<3> &tria = mesh->triangulation;
-  GridGenerator::subdivided_cylinder(tria, n_axial, radius, length / 2);
-  GridTools::shift(Point<3>(length / 2, 0, 0), tria);
-  // Mid-side nodes from deal.II's cylinder manifolds (the hull's are on the circle); after that
-  // the 20-node geometry carries the shape, so the manifolds are dropped.
-  std::set<std::pair<unsigned int, unsigned int>> edges;
-  for (const auto &cell : tria.active_cell_iterators())
-    for (unsigned int l = 0; l < 12; ++l)
-      {
-        const auto key = ordered_edge(cell->line(l)->vertex_index(0), cell->line(l)->vertex_index(1));
-        if (edges.insert(key).second) mesh->midside[key] = cell->line(l)->center(true);
-      }
-  // Node sets from the boundary ids of GridGenerator::cylinder: 0 hull, 1 x = 0, 2 x = L.
-  const char *names[3] = {"HULL", "XMIN", "XMAX"};
-  std::map<std::string, std::set<MeshNode>> sets;
-  for (const auto &cell : tria.active_cell_iterators())
-    for (const auto f : cell->face_indices())
-      if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() <= 2)
-        {
-          auto &set = sets[names[cell->face(f)->boundary_id()]];
-          for (unsigned int v = 0; v < 4; ++v) set.insert(MeshNode{true, cell->face(f)->vertex_index(v), {0, 0}});
-          for (unsigned int l = 0; l < 4; ++l)
-            set.insert(MeshNode{false, 0, ordered_edge(cell->face(f)->line(l)->vertex_index(0),
-                                                       cell->face(f)->line(l)->vertex_index(1))});
-        }
-  for (const auto &[name, nodes] : sets) mesh->node_sets[name].assign(nodes.begin(), nodes.end());
-  tria.reset_all_manifolds();
-  tria.set_all_manifold_ids(numbers::flat_manifold_id);
-  for (unsigned int c = 0; c < tria.n_active_cells(); ++c) mesh->element_labels.push_back("cell " + std::to_string(c + 1));
-  return mesh;
 }
 } // namespace flextrack::fem

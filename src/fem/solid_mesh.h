@@ -60,6 +60,14 @@ std::unique_ptr<SolidMesh> read_abaqus_mesh(const std::string &file, const std::
 std::unique_ptr<SolidMesh> read_gmsh_mesh(const std::string &file, const std::string &entry);
 
 /// .inp or .msh, by extension.
+///
+/// Both readers refuse, with one line naming the file, the line and what is allowed: a path that
+/// is not a regular file (a directory, a device such as /dev/zero), a file over 1 GiB, a file
+/// that is not text (binary, UTF-16: only a short printable excerpt is quoted), lines over
+/// 1 MiB, counts beyond what the rest of the file can hold, repeated node or element numbers,
+/// two elements on the same corner nodes, node sets naming undefined nodes, *NSET, GENERATE
+/// ranges that are empty, endless or longer than the node count, node sets of more than
+/// max(1e7, 64 per node) members in all, and coordinates that are not finite or exceed 1e9 m.
 std::unique_ptr<SolidMesh> read_mesh_file(const std::string &file, const std::string &entry);
 
 /// A box [0, Lx] x [0, Ly] x [0, Lz] with nx x ny x nz cells; node sets "xmin", "xmax", "ymin",
