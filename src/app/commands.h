@@ -19,6 +19,16 @@ struct Options
   std::string format;           ///< export: a name of io::export_formats()
 };
 
+/// Time simulation of a multibody scene (Model = multibody): probes.csv, monitors.csv,
+/// results.h5, summary.json, parameters_used.prm. Needs no MPI unless a body must be reduced.
+int run_command(const Options &options, const io::SceneFile &file);
+/// Frequencies and damping ratios of a multibody scene linearised about its initial state.
+int linearize_command(const Options &options, const io::SceneFile &file);
+/// The parameters of a multibody scene (one body, joint, force and probe called NAME).
+void print_multibody_parameters();
+/// Starts MPI (once) for a command that did not need it until now: a run whose flexible body
+/// must be reduced (the FE stage distributes its matrices). A no-op if MPI runs already.
+void start_mpi_for_reduction();
 /// Natural modes of one arm or solid (a body scene is reduced instead): frequencies.csv,
 /// summary.json, mode shapes (VTU/PVD).
 int modes_command(const Options &options, const io::SceneFile &file);

@@ -8,7 +8,7 @@
 #include <base/names.h>
 #include <io/body_export.h>
 #include <base/input_error.h>
-#include <reduction/modal_solver.h>
+#include <base/solver_error.h>
 
 #include <deal.II/base/exceptions.h>
 
@@ -27,7 +27,10 @@ const char *usage = R"(flextrack - flexible multibody systems on curved, flexibl
 
 Usage:
   flextrack                          run the default scene (modal analysis of prm/helix_arm.prm)
-  flextrack run FILE.prm [-o DIR]    run a scene (for now: the modal analysis of its arm)
+  flextrack run FILE.prm [-o DIR]    simulate a multibody scene ('Model = multibody',
+                                     doc/multibody.md); other scenes: as 'modes'
+  flextrack linearize FILE.prm       frequencies and damping ratios of a multibody scene
+                                     linearised about its initial state
   flextrack modes FILE.prm [-o DIR]  natural frequencies and mode shapes of the arm or solid in FILE
   mpirun -np N flextrack modes ...   the same for a solid, its mesh partitioned over N processes
   flextrack converge FILE.prm --refinements K [-o DIR]
@@ -48,6 +51,8 @@ Results go to DIR (default: output/<FILE name without extension>/):
   summary.json      degrees of freedom, frequencies, wall time per stage, parameters used
   mode_shapes.pvd   mass-normalised mode shapes (VTU series; open in ParaView)
   convergence.csv, convergence.png   (converge)
+  probes.csv, monitors.csv, results.h5   (run: probe positions and velocities, constraint
+                    residuals and energy balance, the full state; written up to a solver failure)
   reduced_body.h5   reduced matrices, inertia invariants, interface and arm mode fields (reduce;
                     layout in doc/reduced_body_file.md)
 Exit status: 0 success, 1 usage error, 2 bad input, 3 solver failure, 4 internal error.
@@ -71,6 +76,9 @@ int usage_error(const std::string &message)
 /// command starts faster without it, and cannot fail in OpenMPI's singleton start-up).
 void start_mpi(int *argc, char ***argv)
 {
+  int started = 0;
+  MPI_Initialized(&started);
+  if (started) return;
   // A singleton MPI process starts much faster when it does not look for a runtime daemon.
   if (!std::getenv("OMPI_COMM_WORLD_SIZE")) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   MPI_Init(argc, argv);
@@ -99,9 +107,19 @@ int scene_dispatch(const Options &options, const flextrack::io::SceneFile &file)
   return modes_command(options, file);
 }
 
+/// 'run' simulates a multibody scene; other scenes keep their analysis ('modes' or 'reduce').
+int run_dispatch(const Options &options, const flextrack::io::SceneFile &file)
+{
+  if (file.model == "multibody") return run_command(options, file);
+  start_mpi(nullptr, nullptr);
+  return scene_dispatch(options, file);
+}
+
 const std::vector<Command> &commands()
 {
-  static const std::vector<Command> table{{"run", true, scene_dispatch, nullptr},
+  // run and linearize start MPI only when they reduce a body (start_mpi_for_reduction).
+  static const std::vector<Command> table{{"run", false, run_dispatch, nullptr},
+                                          {"linearize", false, linearize_command, nullptr},
                                           {"modes", true, scene_dispatch, nullptr},
                                           {"converge", true, converge_command, nullptr},
                                           {"reduce", true, reduce_command, nullptr},
@@ -172,12 +190,17 @@ int dispatch(std::vector<std::string> args, int *argc, char ***argv)
       std::cout << "flextrack " FLEXTRACK_VERSION << std::endl;
       return 0;
     }
-  if (command == "print-parameters") return print_parameters_command();
+  if (command == "print-parameters")
+    {
+      const int status = print_parameters_command();
+      print_multibody_parameters();
+      return status;
+    }
   const auto &table = commands();
   const auto row = std::find_if(table.begin(), table.end(), [&](const Command &c) { return command == c.name; });
   if (row == table.end())
     return usage_error("unknown command '" + flextrack::base::printable_excerpt(command) +
-                       "'; allowed: run, modes, converge, reduce, inspect, export, print-parameters");
+                       "'; allowed: run, linearize, modes, converge, reduce, inspect, export, print-parameters");
   Options options;
   if (const auto problem = parse_options(command, args, options); !problem.empty()) return usage_error(problem);
   if (row->needs_mpi) start_mpi(argc, argv);
@@ -185,6 +208,8 @@ int dispatch(std::vector<std::string> args, int *argc, char ***argv)
   return row->on_scene(options, flextrack::io::SceneFile::read(options.file));
 }
 } // namespace
+
+void flextrack::app::start_mpi_for_reduction() { start_mpi(nullptr, nullptr); }
 
 int main(int argc, char **argv)
 {
@@ -198,7 +223,7 @@ int main(int argc, char **argv)
       std::cerr << "flextrack: error: " << e.what() << std::endl;
       status = 2;
     }
-  catch (const flextrack::reduction::SolverError &e)
+  catch (const flextrack::SolverError &e)
     {
       std::cerr << "flextrack: solver failure: " << e.what() << std::endl;
       status = 3;

@@ -3,6 +3,7 @@
 #include <base/text.h>
 #include <fem/body.h>
 #include <io/scene_file.h>
+#include <multibody/simulation_settings.h>
 
 #include <filesystem>
 #include <fstream>
@@ -25,6 +26,7 @@ void declare_first_pass(ParameterHandler &prm)
 {
   declare_model_entry(prm);
   fem::Body::declare_arm_list(prm); // Body/Arms
+  multibody::SceneNames::declare_name_lists(prm); // Multibody/Bodies, Joints, Forces, Probes
 }
 
 std::string read_bytes(const std::string &file, const std::string &what)
@@ -94,10 +96,11 @@ unsigned int json_depth(const std::string &text)
 
 void declare_model_entry(ParameterHandler &prm)
 {
-  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid|body"),
+  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid|body|multibody"),
                     "The structure of the scene: 'arm' (a curved beam, subsection Arm), 'solid' (a 3D body "
                     "meshed with hexahedra, subsection Solid) or 'body' (a flexible body of a solid part and "
-                    "named arms, subsection Body, reduced by 'flextrack reduce').");
+                    "named arms, subsection Body, reduced by 'flextrack reduce') or 'multibody' (bodies, joints, forces "
+                    "and probes, subsection Multibody, simulated by 'flextrack run'; doc/multibody.md).");
 }
 
 void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const

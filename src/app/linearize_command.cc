@@ -1,0 +1,66 @@
+// flextrack linearize: the eigenvalues of a multibody scene linearised about its initial state
+// (made consistent first; multibody/linearization.h): frequencies and damping ratios on stdout.
+// A static equilibrium or a steady motion (a hub spinning at a constant driven rate) is the
+// state to give; nothing is integrated and nothing is written.
+#include <app/commands.h>
+#include <base/input_error.h>
+#include <io/multibody_scene.h>
+#include <multibody/initial_conditions.h>
+#include <multibody/linearization.h>
+
+#include <deal.II/base/timer.h>
+
+#include <iomanip>
+#include <iostream>
+
+namespace flextrack::app
+{
+using namespace dealii;
+
+int linearize_command(const Options &options, const io::SceneFile &file)
+{
+  CommandClock clock;
+  auto &timer = clock.timer;
+  std::cout << "flextrack linearize: " << options.file << std::endl;
+  io::MultibodyScene scene;
+  {
+    TimerOutput::Scope t(timer, "read scene, build bodies");
+    scene = io::read_multibody_scene(file, std::cout, timer, start_mpi_for_reduction);
+  }
+  auto &system = *scene.system;
+  const double t0 = scene.settings.start_time;
+  Vector<double> y, yp;
+  std::vector<multibody::LinearMode> modes;
+  {
+    TimerOutput::Scope t(timer, "initial conditions");
+    try
+      {
+        std::cout << "  " << multibody::consistent_initial_conditions(system, t0, y, yp).text();
+      }
+    catch (const InputError &e)
+      {
+        throw e.file().empty() ? e.in_file(scene.file) : e;
+      }
+  }
+  {
+    TimerOutput::Scope t(timer, "linearise, eigenvalues");
+    modes = multibody::linearize(system, t0, y);
+  }
+  std::cout << "\n  linearised at t = " << t0 << " s: " << modes.size() << " modes\n"
+            << "  mode   frequency [Hz]    damping ratio [-]   eigenvalue [1/s]\n";
+  unsigned int unstable = 0;
+  for (unsigned int k = 0; k < modes.size(); ++k)
+    {
+      const auto &m = modes[k];
+      const bool grows = m.eigenvalue.real() > 1e-9 * std::max(1.0, std::abs(m.eigenvalue));
+      unstable += grows;
+      std::cout << "  " << std::setw(4) << k + 1 << "  " << std::setw(16) << std::setprecision(10) << m.frequency_hz
+                << "  " << std::setw(17) << std::setprecision(6) << m.damping_ratio << "   " << std::setprecision(6)
+                << m.eigenvalue.real() << (m.eigenvalue.imag() < 0 ? " - " : " + ") << std::abs(m.eigenvalue.imag())
+                << " i" << (grows ? "   UNSTABLE" : "") << "\n";
+    }
+  if (unstable) std::cout << "  " << unstable << " mode(s) with Re s > 0: the state is unstable\n";
+  print_timings(clock);
+  return 0;
+}
+} // namespace flextrack::app

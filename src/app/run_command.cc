@@ -1,0 +1,219 @@
+// flextrack run: the time simulation of a multibody scene, step-44 style: read the scene and
+// build the system (io), make the initial conditions consistent, integrate with IDA (multibody),
+// record probes, monitors and the state at every output time (io), summarise.
+//
+// The output rule of every command holds for bad input: nothing is written. A solver failure is
+// different: the rows recorded up to the failure are results the user needs to see what went
+// wrong, so they are committed (with summary.json saying "failed" and where), and the failure is
+// then reported with exit status 3.
+#include <app/commands.h>
+#include <base/input_error.h>
+#include <base/solver_error.h>
+#include <io/multibody_scene.h>
+#include <io/output_folder.h>
+#include <io/run_results.h>
+#include <multibody/initial_conditions.h>
+#include <multibody/monitors.h>
+
+#include <unistd.h>
+
+#include <deal.II/base/timer.h>
+
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace flextrack::app
+{
+using namespace dealii;
+using multibody::MonitorValues;
+
+namespace
+{
+/// Progress of the integration: a line rewritten in place on a terminal, else a plain log line
+/// every tenth of the simulated time.
+class ProgressReport
+{
+public:
+  ProgressReport(const double t0, const double t_end) : t0(t0), t_end(t_end), terminal(isatty(STDOUT_FILENO)) {}
+  void update(const double t, const long steps)
+  {
+    const double fraction = (t - t0) / (t_end - t0);
+    const double seconds = clock.wall_time();
+    if (terminal && seconds - last_print < 0.2 && t < t_end) return;
+    if (!terminal && fraction < next_fraction - 1e-12) return;
+    std::ostringstream line;
+    line << "  t = " << std::setprecision(6) << t << " s (" << std::setprecision(3) << 100 * fraction << " %), "
+         << steps << " steps, " << std::setprecision(3) << (seconds > 0 ? (t - t0) / seconds : 0.0)
+         << " s simulated per s";
+    if (terminal)
+      std::cout << "\r" << std::left << std::setw(78) << line.str() << std::flush;
+    else
+      std::cout << line.str() << "\n";
+    last_print = seconds;
+    while (next_fraction <= fraction + 1e-12) next_fraction += 0.1;
+  }
+  void finish() const
+  {
+    if (terminal) std::cout << "\n";
+  }
+
+private:
+  double t0, t_end;
+  bool terminal;
+  Timer clock;
+  double last_print = -1, next_fraction = 0;
+};
+
+io::JsonObject statistics_json(const multibody::IntegratorStatistics &s)
+{
+  io::JsonObject j;
+  std::vector<double> histogram(s.order_histogram.begin() + 1, s.order_histogram.end());
+  j.add("steps", static_cast<double>(s.steps))
+    .add("rejected_steps_error_test", static_cast<double>(s.error_test_failures))
+    .add("rejected_steps_nonlinear_convergence", static_cast<double>(s.nonlinear_convergence_failures))
+    .add("order_histogram_1_to_5", histogram)
+    .add("nonlinear_iterations", static_cast<double>(s.nonlinear_iterations))
+    .add("residual_evaluations", static_cast<double>(s.residual_evaluations))
+    .add("jacobian_evaluations", static_cast<double>(s.jacobian_evaluations))
+    .add("factorizations", static_cast<double>(s.factorizations))
+    .add("last_step_s", s.last_step);
+  return j;
+}
+
+io::JsonObject initial_conditions_json(const multibody::InitialConditionReport &r)
+{
+  io::JsonObject j;
+  j.add("iterations", r.iterations).add("position_residual", r.position_residual).add("velocity_residual", r.velocity_residual);
+  std::string corrections = "[", dropped = "[";
+  for (const auto &c : r.corrections)
+    {
+      io::JsonObject b;
+      b.add("body", c.body).add("moved_m", c.displacement).add("turned_rad", c.rotation).add("modal_change", c.modal).add("velocity_change", c.velocity);
+      corrections += (corrections.size() > 1 ? ", " : "") + b.str(4);
+    }
+  for (const auto &d : r.dropped)
+    dropped += (dropped.size() > 1 ? ", " : "") +
+               io::JsonObject::quote("joint " + d.joint + ", equation " + std::to_string(d.equation) + " (" + d.description + ")");
+  return j.raw("corrections", corrections + "]").raw("dropped_redundant_equations", dropped + "]");
+}
+} // namespace
+
+void print_multibody_parameters()
+{
+  ParameterHandler prm;
+  multibody::SceneNames names;
+  names.bodies = names.joints = names.forces = names.probes = {"NAME"};
+  io::declare_multibody_scene(prm, names);
+  std::cout << "\n# Model = multibody (flextrack run, flextrack linearize; doc/multibody.md): one body,\n"
+               "# joint, force and probe called NAME\n";
+  prm.print_parameters(std::cout, ParameterHandler::PRM);
+}
+
+int run_command(const Options &options, const io::SceneFile &file)
+{
+  CommandClock clock;
+  auto &timer = clock.timer;
+  std::cout << "flextrack run: " << options.file << std::endl;
+  io::MultibodyScene scene;
+  {
+    TimerOutput::Scope t(timer, "read scene, build bodies");
+    scene = io::read_multibody_scene(file, std::cout, timer, start_mpi_for_reduction);
+  }
+  auto &system = *scene.system;
+  const auto &settings = scene.settings;
+  for (const auto &d : scene.body_descriptions) std::cout << "  body " << d << "\n";
+  std::cout << "  " << system.n_joints() << " joints, " << system.n_forces() << " forces, " << scene.probes.size()
+            << " probes; " << system.size() << " unknowns (" << system.n_q() << " positions, " << system.n_v()
+            << " velocities, " << system.n_lambda() + system.n_mu() << " multipliers)" << std::endl;
+
+  Vector<double> y, yp;
+  multibody::InitialConditionReport report;
+  {
+    TimerOutput::Scope t(timer, "initial conditions");
+    try
+      {
+        report = multibody::consistent_initial_conditions(system, settings.start_time, y, yp);
+      }
+    catch (const InputError &e)
+      {
+        throw e.file().empty() ? e.in_file(scene.file) : e;
+      }
+  }
+  std::cout << "  " << report.text();
+
+  io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output_directory, options.file));
+  io::RunRecorder recorder(system, scene.probes, out);
+  multibody::IdaIntegrator ida(system, settings.integrator);
+  multibody::Monitors monitors(system);
+  ida.initialize(settings.start_time, y, yp);
+  monitors.attach(ida);
+  const MonitorValues start = monitors.evaluate(settings.start_time, y);
+  recorder.record(settings.start_time, y, start, 0.0);
+
+  ProgressReport progress(settings.start_time, settings.end_time);
+  std::string failure;
+  {
+    TimerOutput::Scope t(timer, "time integration");
+    try
+      {
+        ida.integrate(settings.end_time, settings.output_interval,
+                      [&](const double time, const Vector<double> &state, const Vector<double> &) {
+                        const MonitorValues m = monitors.evaluate(time, state);
+                        recorder.record(time, state, m, multibody::Monitors::balance_error(start, m));
+                        progress.update(time, ida.statistics().steps);
+                      });
+      }
+    catch (const SolverError &e)
+      {
+        failure = e.what();
+      }
+  }
+  progress.finish();
+
+  {
+    TimerOutput::Scope t(timer, "write results");
+    recorder.write_hdf5(out);
+    out.add_parameters(*scene.parameters);
+    io::JsonObject drift;
+    drift.add("position_residual", recorder.max_position_residual)
+      .add("velocity_residual", recorder.max_velocity_residual)
+      .add("euler_parameter_normalisation", recorder.max_normalisation_drift)
+      .add("relative_energy_balance_error", recorder.max_balance_error);
+    io::JsonObject summary;
+    summary.add("program", "flextrack " FLEXTRACK_VERSION)
+      .add("command", "run")
+      .add("parameter_file", options.file)
+      .add("status", failure.empty() ? "completed" : "failed")
+      .add("failure", failure)
+      .add("start_time_s", settings.start_time)
+      .add("end_time_s", settings.end_time)
+      .add("time_reached_s", recorder.last_time())
+      .add("output_rows", recorder.n_rows())
+      .add("unknowns", system.size())
+      .add("integrator", statistics_json(ida.statistics()))
+      .add("initial_conditions", initial_conditions_json(report))
+      .add("max_over_output_rows", drift)
+      .add("wall_time_s", io::timings_json(timer))
+      .add("total_wall_time_s", clock.wall.wall_time())
+      .add("peak_memory_MiB", io::peak_memory_mib())
+      .raw("parameters", io::parameters_as_json(*scene.parameters));
+    out.add_summary(summary);
+  }
+  out.commit();
+
+  const auto stats = ida.statistics();
+  std::cout << "  " << stats.steps << " steps (" << stats.error_test_failures << " rejected by the error test, "
+            << stats.nonlinear_convergence_failures << " by Newton), " << stats.residual_evaluations << " residuals, "
+            << stats.jacobian_evaluations << " Jacobians; max |Phi| " << std::setprecision(3)
+            << recorder.max_position_residual << ", max ||p|-1| " << recorder.max_normalisation_drift
+            << ", energy balance " << recorder.max_balance_error << "\n";
+  print_timings(clock);
+  if (!failure.empty())
+    throw SolverError(failure + ". The " + std::to_string(recorder.n_rows()) + " output rows up to t = " +
+                      std::to_string(recorder.last_time()) + " s are in " + out.path() + "/");
+  std::cout << "  results in " << out.path() << "/ (" << (scene.probes.empty() ? "" : "probes.csv, ")
+            << "monitors.csv, results.h5, summary.json, parameters_used.prm)" << std::endl;
+  return 0;
+}
+} // namespace flextrack::app

@@ -1,0 +1,268 @@
+// Reading a multibody scene (multibody_scene.h).
+#include <base/input_error.h>
+#include <base/names.h>
+#include <base/text.h>
+#include <io/body_scene.h>
+#include <io/hdf5_file.h>
+#include <io/multibody_scene.h>
+#include <io/output_folder.h>
+#include <io/reduced_body_cache.h>
+#include <io/reduced_body_file.h>
+#include <multibody/force.h>
+#include <multibody/joint_table.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+
+namespace flextrack::io
+{
+using dealii::ParameterHandler;
+namespace Patterns = dealii::Patterns;
+namespace fs = std::filesystem;
+using namespace multibody;
+
+namespace
+{
+void declare_body_source(ParameterHandler &prm)
+{
+  prm.declare_entry("Kind", "rigid", Patterns::Selection("rigid|flexible"),
+                    "Kind of body [-]: 'rigid' (Mass, Centre of mass, Inertia) or 'flexible' (a reduced body "
+                    "from 'Body scene' or 'Reduced body file').");
+  prm.declare_entry("Body scene", "", Patterns::Anything(),
+                    "Flexible body: a 'Model = body' scene file (relative to this scene's folder). It is reduced "
+                    "on demand; the reduced body is kept where 'flextrack reduce' keeps it (the body scene's "
+                    "Output/Directory, else output/<its name>/reduced_body.h5) and reused while its inputs "
+                    "are unchanged [-].");
+  prm.declare_entry("Reduced body file", "", Patterns::Anything(),
+                    "Flexible body: a reduced body file (.h5, written by 'flextrack reduce'; relative to this "
+                    "scene's folder) [-].");
+}
+
+void in_instance(ParameterHandler &prm, const std::string &kind, const std::string &name,
+                 const std::function<void()> &what)
+{
+  prm.enter_subsection(kind + " " + name);
+  what();
+  prm.leave_subsection();
+}
+
+std::string joined(const std::vector<std::string> &names)
+{
+  std::string s;
+  for (const auto &n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+/// Every body name an instance refers to exists (entry, allowed names); checked before anything
+/// is built, so that no reduction runs for a scene with a typo.
+void check_references(ParameterHandler &prm, const SceneNames &names)
+{
+  std::vector<std::string> allowed{ground_name};
+  allowed.insert(allowed.end(), names.bodies.begin(), names.bodies.end());
+  const auto check = [&](const std::string &instance, const std::string &entry, const std::string &value) {
+    const std::string name = base::trim(value);
+    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+      throw InputError(instance + "/" + entry,
+                       "there is no body '" + base::printable_excerpt(name) + "'; allowed: " + joined(allowed));
+  };
+  for (const auto &j : names.joints)
+    in_instance(prm, "Joint", j, [&] {
+      check("Joint " + j, "Body 1", prm.get("Body 1"));
+      check("Joint " + j, "Body 2", prm.get("Body 2"));
+    });
+  for (const auto &f : names.forces)
+    in_instance(prm, "Force", f, [&] {
+      check("Force " + f, "Body 1", prm.get("Body 1"));
+      if (prm.get("Kind") != "applied load") check("Force " + f, "Body 2", prm.get("Body 2"));
+    });
+  for (const auto &p : names.probes)
+    in_instance(prm, "Probe", p, [&] {
+      check("Probe " + p, "Body", prm.get("Body"));
+      if (base::trim(prm.get("Frame")) != "global") check("Probe " + p, "Frame", prm.get("Frame"));
+    });
+}
+
+/// The input hash stored in a reduced body file, empty if there is no readable file.
+std::string stored_input_hash(const std::string &file)
+{
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return "";
+  try
+    {
+      return Hdf5File(file, Hdf5File::Mode::read).string_attribute("/", "input_hash");
+    }
+  catch (const std::exception &)
+    {
+      return "";
+    }
+}
+
+/// @p read(), with an error about a whole file (a missing file, not a body scene) attributed to
+/// @p entry of this scene; errors inside the other file keep naming that file and its entry.
+template <typename Read>
+auto naming_entry(const std::string &entry, const Read &read)
+{
+  try
+    {
+      return read();
+    }
+  catch (const InputError &e)
+    {
+      if (!e.entry().empty() && e.entry() != "Model") throw;
+      throw InputError(entry, e.what());
+    }
+}
+
+/// Where a flexible body comes from, and the reduced body.
+class FlexibleBodySource
+{
+public:
+  FlexibleBodySource(const SceneFile &scene, std::ostream &log, dealii::TimerOutput &timer,
+                     const std::function<void()> &before_reduction)
+    : scene(scene), log(log), timer(timer), before_reduction(before_reduction)
+  {}
+
+  /// The reduced body named in the current `subsection Body NAME`; @p description says whence.
+  std::shared_ptr<const reduction::ReducedBody> obtain(ParameterHandler &prm, const std::string &prefix,
+                                                       std::string &description)
+  {
+    const std::string body_scene = base::trim(prm.get("Body scene")), body_file = base::trim(prm.get("Reduced body file"));
+    if (body_scene.empty() == body_file.empty())
+      throw InputError(prefix + "Body scene", "a flexible body needs exactly one of 'Body scene' and 'Reduced body file'");
+    if (!body_file.empty())
+      {
+        dealii::TimerOutput::Scope t(timer, "load reduced bodies");
+        auto body = std::make_shared<reduction::ReducedBody>(
+          naming_entry(prefix + "Reduced body file", [&] { return read_reduced_body(relative(body_file)); }));
+        description = "reduced body file " + relative(body_file);
+        return body;
+      }
+    const auto source = naming_entry(prefix + "Body scene", [&] { return read_body_scene(relative(body_scene)); });
+    const std::string cache =
+      OutputFolder::choose("", source.output.directory, source.file) + "/reduced_body.h5";
+    if (stored_input_hash(cache) != source.input_hash && before_reduction && !reduction_prepared)
+      {
+        before_reduction();
+        reduction_prepared = true;
+      }
+    log << "  body scene " << source.file << ":\n";
+    auto obtained = cached_or_reduced_body(source, cache, log, timer);
+    description = "body scene " + source.file + (obtained.from_cache ? ", reduced body from the cache " : ", reduced to ") + cache;
+    return std::make_shared<reduction::ReducedBody>(std::move(obtained.body));
+  }
+
+private:
+  std::string relative(const std::string &path) const
+  {
+    return fs::path(path).is_absolute() ? path : (fs::path(scene.directory) / path).string();
+  }
+  const SceneFile &scene;
+  std::ostream &log;
+  dealii::TimerOutput &timer;
+  const std::function<void()> &before_reduction;
+  bool reduction_prepared = false;
+};
+
+std::unique_ptr<FloatingBody> make_body(ParameterHandler &prm, const std::string &name, const SimulationSettings &settings,
+                                        FlexibleBodySource &flexible, std::string &description)
+{
+  const std::string prefix = "Body " + name + "/";
+  const InitialState initial = FloatingBody::parse_initial_state_parameters(prm, prefix);
+  std::ostringstream d;
+  d << name << ": ";
+  if (prm.get("Kind") == "rigid")
+    {
+      RigidProperties properties;
+      try
+        {
+          properties = FloatingBody::parse_rigid_parameters(prm);
+        }
+      catch (const InputError &e)
+        {
+          throw InputError(prefix + e.entry(), e.message());
+        }
+      d << "rigid, " << properties.mass << " kg";
+      description = d.str();
+      return std::make_unique<FloatingBody>(name, properties, initial);
+    }
+  FlexibleOptions options = FloatingBody::parse_flexible_parameters(prm);
+  options.make_rigid = options.make_rigid || settings.flexible_as_rigid;
+  std::string source;
+  auto reduced = flexible.obtain(prm, prefix, source);
+  auto body = std::make_unique<FloatingBody>(name, reduced, options, initial);
+  d << (options.make_rigid ? "flexible made rigid" : "flexible") << ", " << body->n_modes() << " modes, "
+    << reduced->invariants.mass << " kg (" << source << ")";
+  description = d.str();
+  return body;
+}
+} // namespace
+
+void declare_multibody_scene(ParameterHandler &prm, const SceneNames &names)
+{
+  declare_model_entry(prm);
+  SceneNames::declare_name_lists(prm);
+  SimulationSettings::declare_parameters(prm);
+  for (const auto &b : names.bodies)
+    in_instance(prm, "Body", b, [&] {
+      declare_body_source(prm);
+      FloatingBody::declare_rigid_parameters(prm);
+      FloatingBody::declare_flexible_parameters(prm);
+      FloatingBody::declare_initial_state_parameters(prm);
+    });
+  for (const auto &j : names.joints) in_instance(prm, "Joint", j, [&] { declare_joint_parameters(prm); });
+  for (const auto &f : names.forces) in_instance(prm, "Force", f, [&] { declare_force_parameters(prm); });
+  for (const auto &p : names.probes) in_instance(prm, "Probe", p, [&] { Probe::declare_parameters(prm); });
+  prm.enter_subsection("Output");
+  prm.declare_entry("Directory", "", Patterns::Anything(),
+                    "Folder of the results (-o overrides it); empty: output/<scene file name> [-].");
+  prm.leave_subsection();
+}
+
+MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, dealii::TimerOutput &timer,
+                                    const std::function<void()> &before_reduction)
+{
+  try
+    {
+      if (file.model != "multibody")
+        throw InputError("Model", "is '" + file.model + "'; 'flextrack run' and 'flextrack linearize' need 'Model = "
+                                  "multibody' (see doc/multibody.md)");
+      MultibodyScene scene;
+      scene.file = file.name;
+      scene.names = SceneNames::parse_name_lists(*file.lists);
+      // Pass 2: everything, strictly.
+      scene.parameters = std::make_shared<ParameterHandler>();
+      auto &prm = *scene.parameters;
+      declare_multibody_scene(prm, scene.names);
+      file.parse(prm, false);
+      scene.settings = SimulationSettings::parse_parameters(prm);
+      prm.enter_subsection("Output");
+      scene.output_directory = base::trim(prm.get("Directory"));
+      prm.leave_subsection();
+      check_references(prm, scene.names);
+
+      scene.system = std::make_unique<System>(scene.settings.gravity);
+      auto &system = *scene.system;
+      FlexibleBodySource flexible(file, log, timer, before_reduction);
+      for (const auto &b : scene.names.bodies)
+        in_instance(prm, "Body", b, [&] {
+          std::string description;
+          system.add_body(make_body(prm, b, scene.settings, flexible, description));
+          scene.body_descriptions.push_back(description);
+        });
+      const auto lookup = system.body_lookup();
+      for (const auto &j : scene.names.joints)
+        in_instance(prm, "Joint", j, [&] { system.add_joint(create_joint(j, prm, lookup)); });
+      for (const auto &f : scene.names.forces)
+        in_instance(prm, "Force", f, [&] { system.add_force(create_force(f, prm, lookup)); });
+      for (const auto &p : scene.names.probes)
+        in_instance(prm, "Probe", p, [&] { scene.probes.push_back(Probe::create(p, prm, lookup)); });
+      system.finalize();
+      return scene;
+    }
+  catch (const InputError &e)
+    {
+      throw e.file().empty() || e.file() == "<string>" ? e.in_file(file.name) : e;
+    }
+}
+} // namespace flextrack::io

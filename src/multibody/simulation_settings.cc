@@ -1,0 +1,93 @@
+// Parameters of `subsection Multibody` (simulation_settings.h).
+#include <base/input_error.h>
+#include <base/text.h>
+#include <multibody/simulation_settings.h>
+
+namespace flextrack::multibody
+{
+using namespace dealii;
+
+namespace
+{
+/// A scene with more instances than this is almost certainly a mistake (or hostile); every
+/// instance costs a ParameterHandler subsection.
+constexpr std::size_t max_instances = 1000;
+
+const char *const list_entries[4][2] = {{"Bodies", "body"}, {"Joints", "joint"}, {"Forces", "force"}, {"Probes", "probe"}};
+} // namespace
+
+void SceneNames::declare_name_lists(ParameterHandler &prm)
+{
+  prm.enter_subsection("Multibody");
+  prm.declare_entry("Bodies", "", Patterns::Anything(),
+                    "Names of the moving bodies, separated by commas (letters, digits, '_'); each body NAME "
+                    "is described in 'subsection Body NAME'. The fixed frame 'ground' is always there and "
+                    "is not listed. At most 1000 [-].");
+  prm.declare_entry("Joints", "", Patterns::Anything(),
+                    "Names of the joints; each in 'subsection Joint NAME'. At most 1000 [-].");
+  prm.declare_entry("Forces", "", Patterns::Anything(),
+                    "Names of the applied loads and spring-dampers; each in 'subsection Force NAME'. At most "
+                    "1000 [-].");
+  prm.declare_entry("Probes", "", Patterns::Anything(),
+                    "Names of the probes (marker positions and velocities written at every output time); "
+                    "each in 'subsection Probe NAME'. At most 1000 [-].");
+  prm.leave_subsection();
+}
+
+SceneNames SceneNames::parse_name_lists(ParameterHandler &prm)
+{
+  SceneNames names;
+  std::vector<std::string> *lists[4] = {&names.bodies, &names.joints, &names.forces, &names.probes};
+  prm.enter_subsection("Multibody");
+  for (unsigned int i = 0; i < 4; ++i)
+    {
+      const std::string entry = std::string("Multibody/") + list_entries[i][0];
+      *lists[i] = base::parse_name_list(prm.get(list_entries[i][0]), entry, std::string(list_entries[i][1]) + " name");
+      if (lists[i]->size() > max_instances)
+        throw InputError(entry, "names " + std::to_string(lists[i]->size()) + " instances; at most 1000 are allowed");
+    }
+  prm.leave_subsection();
+  for (const auto &b : names.bodies)
+    if (b == ground_name)
+      throw InputError("Multibody/Bodies", "'ground' is the fixed frame every scene has; do not list it");
+  return names;
+}
+
+void SimulationSettings::declare_parameters(ParameterHandler &prm)
+{
+  prm.enter_subsection("Multibody");
+  prm.declare_entry("Gravity", "0, 0, -9.81", Patterns::Anything(), "Gravitational acceleration, global [m/s^2].");
+  prm.declare_entry("Start time", "0", Patterns::Double(), "Time at the initial state [s].");
+  prm.declare_entry("End time", "1", Patterns::Double(), "Time at which the run ends [s] (> start time).");
+  prm.declare_entry("Output interval", "0.01", Patterns::Double(0),
+                    "Time between output rows (probes, results.h5) [s]; 0: only the start and the end.");
+  prm.declare_entry("Flexible bodies rigid", "false", Patterns::Bool(),
+                    "Treat every flexible body as rigid with the same mass properties (m, s, J_O; no modes), "
+                    "to compare the same scene with and without flexibility [-].");
+  prm.enter_subsection("Integrator");
+  IntegratorSettings::declare_parameters(prm);
+  prm.leave_subsection();
+  prm.leave_subsection();
+}
+
+SimulationSettings SimulationSettings::parse_parameters(ParameterHandler &prm)
+{
+  SimulationSettings s;
+  prm.enter_subsection("Multibody");
+  const auto g = base::parse_vector3(prm.get("Gravity"), "Multibody/Gravity", "m/s^2");
+  s.gravity = Vector3({g[0], g[1], g[2]});
+  s.start_time = prm.get_double("Start time");
+  s.end_time = prm.get_double("End time");
+  s.output_interval = prm.get_double("Output interval");
+  s.flexible_as_rigid = prm.get_bool("Flexible bodies rigid");
+  prm.enter_subsection("Integrator");
+  s.integrator.parse_parameters(prm);
+  prm.leave_subsection();
+  prm.leave_subsection();
+  if (!(s.end_time > s.start_time))
+    throw InputError("Multibody/End time", "must be later than the start time (" + std::to_string(s.start_time) + " s)");
+  if (s.output_interval > 0 && (s.end_time - s.start_time) / s.output_interval > 1e7)
+    throw InputError("Multibody/Output interval", "asks for more than 1e7 output rows; choose a longer interval");
+  return s;
+}
+} // namespace flextrack::multibody

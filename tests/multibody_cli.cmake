@@ -1,0 +1,47 @@
+# Command-line tests of 'flextrack run' and 'flextrack linearize' (issue 9): numbers against
+# closed forms (tests/multibody_cli/checks.py: reference and tolerance beside each assertion),
+# eight runs started at once, a solver failure that keeps its results, and bad input that names
+# the file, the entry and the allowed names and writes nothing. Label cli.
+set(MB_OUT ${CMAKE_CURRENT_BINARY_DIR}/multibody_cli)
+file(MAKE_DIRECTORY ${MB_OUT})
+
+function(flextrack_multibody_check name check scene)
+  add_test(NAME cli_${name}
+    COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/multibody_cli/checks.py ${check} $<TARGET_FILE:flextrack>
+            ${scene} ${MB_OUT}/${name}
+    WORKING_DIRECTORY ${MB_OUT}) # a flexible body's reduced-body cache goes to ./output/
+  set_tests_properties(cli_${name} PROPERTIES LABELS cli)
+endfunction()
+flextrack_multibody_check(run_pendulum_period_matches_elliptic_integral pendulum ${CMAKE_SOURCE_DIR}/prm/pendulum.prm)
+flextrack_multibody_check(run_slider_crank_follows_closed_form slider_crank ${CMAKE_SOURCE_DIR}/prm/slider_crank.prm)
+flextrack_multibody_check(run_flexible_pendulum_balances_energy flexible ${CMAKE_SOURCE_DIR}/prm/flexible_pendulum.prm)
+flextrack_multibody_check(linearize_pendulum_frequency_matches_closed_form linearize
+                          ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_at_rest.prm)
+flextrack_multibody_check(run_solver_failure_keeps_rows_and_says_what_to_change solver_failure
+                          ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/locking_slider_crank.prm)
+set_tests_properties(cli_run_flexible_pendulum_balances_energy PROPERTIES TIMEOUT 600)
+
+add_test(NAME cli_run_eight_processes_at_once
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/multibody_cli/eight_at_once.sh $<TARGET_FILE:flextrack>
+          ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_1s.prm ${MB_OUT}/eight_at_once)
+set_tests_properties(cli_run_eight_processes_at_once PROPERTIES LABELS cli)
+
+# Bad input: exit status 2, one line naming the file, the entry and what is allowed, no output.
+flextrack_bad_input(run_joint_names_unknown_body
+  "unknown_body.prm: entry 'Joint pivot/Body 1': there is no body 'bobb'; allowed: ground, bob" run multibody_input/unknown_body.prm)
+flextrack_bad_input(run_joint_asks_interface_of_rigid_body
+  "interface_on_rigid_body.prm: entry 'Joint pivot/Interface 1': body 'bob' is not flexible; it has no interface 'tip'"
+  run multibody_input/interface_on_rigid_body.prm)
+flextrack_bad_input(run_probe_frame_unknown_body
+  "unknown_probe_frame.prm: entry 'Probe bob_centre/Frame': there is no body 'hub'; allowed: ground, bob"
+  run multibody_input/unknown_probe_frame.prm)
+flextrack_bad_input(run_ground_listed_as_body "ground_listed.prm: entry 'Multibody/Bodies': 'ground' is the fixed frame"
+  run multibody_input/ground_listed.prm)
+flextrack_bad_input(run_flexible_body_without_source
+  "flexible_without_source.prm: entry 'Body bob/Body scene': a flexible body needs exactly one of"
+  run multibody_input/flexible_without_source.prm)
+flextrack_bad_input(run_missing_body_scene
+  "missing_body_scene.prm: entry 'Body bob/Body scene': .*no_such_body.prm: cannot open the parameter file: no such file"
+  run multibody_input/missing_body_scene.prm)
+flextrack_bad_input(linearize_needs_multibody_scene "entry 'Model': is 'arm'; 'flextrack run' and 'flextrack linearize' need 'Model = multibody'"
+  linearize input/straight_cantilever.prm)
