@@ -3,6 +3,7 @@
 #include <multibody/linearization.h>
 
 #include <deal.II/lac/lapack_full_matrix.h>
+#include <deal.II/lac/lapack_templates.h>
 
 #include <algorithm>
 
@@ -102,27 +103,49 @@ std::vector<LinearMode> linearize(System &system, const double t, const Vector<d
     for (unsigned int k = 0; k < nf; ++k) Mi(i, k) = Minv(i, k);
   Mi.mmult(MK, Kr);
   Mi.mmult(MC, Cr);
-  LAPACKFullMatrix<double> A(2 * nf);
+  // Eigenvalues and right eigenvectors of A (column-major for LAPACK's dgeev).
+  const types::blas_int n2 = 2 * nf;
+  std::vector<double> A(n2 * n2), wr(n2), wi(n2), vr(n2 * n2), vl(1);
   for (unsigned int i = 0; i < nf; ++i)
     {
-      A(i, nf + i) = 1;
+      A[(nf + i) * n2 + i] = 1;
       for (unsigned int k = 0; k < nf; ++k)
         {
-          A(nf + i, k) = -MK(i, k);
-          A(nf + i, nf + k) = -MC(i, k);
+          A[k * n2 + nf + i] = -MK(i, k);
+          A[(nf + k) * n2 + nf + i] = -MC(i, k);
         }
     }
-  A.compute_eigenvalues();
+  types::blas_int info = 0, lwork = -1, one = 1;
+  double work_size = 0;
+  geev("N", "V", &n2, A.data(), &n2, wr.data(), wi.data(), vl.data(), &one, vr.data(), &n2, &work_size, &lwork, &info);
+  lwork = static_cast<types::blas_int>(work_size);
+  std::vector<double> work(lwork);
+  geev("N", "V", &n2, A.data(), &n2, wr.data(), wi.data(), vl.data(), &one, vr.data(), &n2, work.data(), &lwork, &info);
+  AssertThrow(info == 0, ExcMessage("LAPACK dgeev failed in linearize() (info " + std::to_string(info) + ")"));
+
   std::vector<LinearMode> modes;
-  for (unsigned int i = 0; i < 2 * nf; ++i)
+  for (unsigned int i = 0; i < unsigned(n2); ++i)
     {
-      const std::complex<double> s = A.eigenvalue(i);
+      const std::complex<double> s(wr[i], wi[i]);
       if (s.imag() < 0) continue; // one of each conjugate pair
       LinearMode m;
       m.eigenvalue = s;
       m.frequency_hz = std::abs(s.imag()) / (2 * M_PI);
       m.damping_ratio = std::abs(s) > 0 ? -s.real() / std::abs(s) : 0.0;
-      modes.push_back(m);
+      // dgeev: a complex pair (wi > 0 at i, < 0 at i + 1) has the vector vr(:, i) + i vr(:, i + 1).
+      std::vector<std::complex<double>> z(nf);
+      for (unsigned int k = 0; k < nf; ++k)
+        z[k] = {vr[i * n2 + k], s.imag() > 0 ? vr[(i + 1) * n2 + k] : 0.0};
+      m.shape.assign(nv, 0.0);
+      double norm = 0;
+      for (unsigned int r = 0; r < nv; ++r)
+        {
+          for (unsigned int k = 0; k < nf; ++k) m.shape[r] += N(r, k) * z[k];
+          norm += std::norm(m.shape[r]);
+        }
+      if (norm > 0)
+        for (auto &x : m.shape) x /= std::sqrt(norm);
+      modes.push_back(std::move(m));
     }
   std::sort(modes.begin(), modes.end(), [](const LinearMode &a, const LinearMode &b) { return a.frequency_hz < b.frequency_hz; });
   return modes;

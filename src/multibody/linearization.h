@@ -11,7 +11,9 @@
 // Its eigenvalues s = -zeta w +- i w sqrt(1 - zeta^2) give the frequencies |Im s| / 2 pi and the
 // damping ratios -Re s / |s|; Re s > 0 is an instability. N is taken constant (its derivative
 // times the constraint reactions is in K through B(q)^T lambda0). Drivers hold their rows, so a
-// driven joint has no motion in N.
+// driven joint has no motion in N. Each mode also carries its shape (the displacement part of the
+// right eigenvector, mapped back to velocity coordinates: N z), so that a caller can tell e.g. a
+// flapwise from a chordwise bending mode.
 #pragma once
 
 #include <multibody/system.h>
@@ -28,6 +30,8 @@ struct LinearMode
   std::complex<double> eigenvalue; ///< [1/s]
   double frequency_hz = 0;         ///< |Im s| / 2 pi
   double damping_ratio = 0;        ///< -Re s / |s|
+  /// Displacement shape in velocity coordinates (n_v entries, complex, scaled to unit norm).
+  std::vector<std::complex<double>> shape;
 };
 
 /// Modes of @p system linearised at (t, y) (y with consistent q, v; lambda is recomputed), sorted
