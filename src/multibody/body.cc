@@ -138,7 +138,7 @@ void FloatingBody::mass_matrix(const double *q, FullMatrix<double> &M) const
   inertia->mass_matrix(f.A, f.eta, M);
 }
 
-void FloatingBody::forces(const double *q, const double *v, const Vector3 &gravity, double *Q) const
+void FloatingBody::forces(const double *q, const double *v, const Vector3 &gravity, double *Q, const double *v_dot) const
 {
   const FrameState f = frame(q, v);
   Vector<double> Qv;
@@ -161,10 +161,18 @@ void FloatingBody::forces(const double *q, const double *v, const Vector3 &gravi
     for (unsigned int a = 0; a < 3; ++a) Q[6 + k] += inv.I3(a, k) * g_body[a];
 
   // Elastic and damping forces. Geometric stiffening takes the inertial load of the frame's
-  // rotation and of gravity (origin acceleration and angular acceleration taken as zero: they
-  // would make the force depend on v').
+  // motion - its rotation omega, the acceleration of its origin A^T R'' less gravity, and its
+  // angular acceleration omega' (body axes; the last two from v_dot) - which the body's supports
+  // or the joint at its frame interface carry. A beam clamped to a hub off the spin axis gets the
+  // tension of its root's centripetal acceleration this way.
+  Vector3 acceleration = -g_body, angular_acceleration;
+  if (v_dot)
+    {
+      acceleration += transpose(f.A) * Vector3({v_dot[0], v_dot[1], v_dot[2]});
+      angular_acceleration = Vector3({v_dot[3], v_dot[4], v_dot[5]});
+    }
   const FullMatrix<double> K_eff =
-    stiffening ? reduction::stiffness_with_inertial_loads(*reduced, f.omega, -g_body, Vector3()) : K;
+    stiffening ? reduction::stiffness_with_inertial_loads(*reduced, f.omega, acceleration, angular_acceleration) : K;
   for (unsigned int j = 0; j < n; ++j)
     for (unsigned int k = 0; k < n; ++k) Q[6 + j] -= K_eff(j, k) * f.eta[k] + D(j, k) * f.eta_dot[k];
 }

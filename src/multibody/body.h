@@ -76,7 +76,13 @@ public:
   /// M(q), n_v x n_v [kg, kg m, kg m^2].
   virtual void mass_matrix(const double *q, dealii::FullMatrix<double> &M) const = 0;
   /// Q(q, v): quadratic-velocity, elastic, damping and gravity forces in v-coordinates.
-  virtual void forces(const double *q, const double *v, const Vector3 &gravity, double *Q) const = 0;
+  /// @p v_dot (n_v entries, or nullptr: taken as zero) enters only where a force depends on the
+  /// accelerations: the geometric stiffness of a flexible body's inertial loads.
+  virtual void forces(const double *q, const double *v, const Vector3 &gravity, double *Q,
+                      const double *v_dot = nullptr) const = 0;
+  /// Whether forces() depends on the frame accelerations v_dot[0..5] (the Jacobian then
+  /// differentiates it with respect to them).
+  virtual bool forces_depend_on_acceleration() const { return false; }
 
   virtual double kinetic_energy(const double *q, const double *v) const = 0;       ///< [J]
   virtual double gravity_potential(const double *q, const Vector3 &gravity) const = 0; ///< [J]
@@ -101,7 +107,7 @@ public:
   void initial_coordinates(double *, double *) const override {}
   void coordinate_rates(const double *, const double *, double *) const override {}
   void mass_matrix(const double *, dealii::FullMatrix<double> &M) const override { M.reinit(0, 0); }
-  void forces(const double *, const double *, const Vector3 &, double *) const override {}
+  void forces(const double *, const double *, const Vector3 &, double *, const double * = nullptr) const override {}
   double kinetic_energy(const double *, const double *) const override { return 0; }
   double gravity_potential(const double *, const Vector3 &) const override { return 0; }
   double strain_energy(const double *) const override { return 0; }
@@ -120,7 +126,7 @@ struct RigidProperties
 /// Options of a flexible body.
 struct FlexibleOptions
 {
-  bool geometric_stiffening = true; ///< K_eff = K + sum_c a_c(omega, g) G_c
+  bool geometric_stiffening = true; ///< K_eff = K + sum_c a_c(omega, A^T R'' - g, omega') G_c
   bool make_rigid = false;          ///< same invariants m, s, J_O, no modes
 };
 
@@ -150,7 +156,9 @@ public:
   void initial_coordinates(double *q, double *v) const override;
   void coordinate_rates(const double *q, const double *v, double *q_dot) const override;
   void mass_matrix(const double *q, dealii::FullMatrix<double> &M) const override;
-  void forces(const double *q, const double *v, const Vector3 &gravity, double *Q) const override;
+  void forces(const double *q, const double *v, const Vector3 &gravity, double *Q,
+              const double *v_dot = nullptr) const override;
+  bool forces_depend_on_acceleration() const override { return stiffening; }
   double kinetic_energy(const double *q, const double *v) const override;
   double gravity_potential(const double *q, const Vector3 &gravity) const override;
   double strain_energy(const double *q) const override;

@@ -186,7 +186,21 @@ void consistent_derivatives(System &system, const double t, Vector<double> &y, V
       for (unsigned int k = 0; k < nv; ++k) K(nv + r, k) = K(k, nv + r) = B(r, k);
     }
   K.compute_lu_factorization();
+  const Vector<double> rhs0(rhs);
   K.solve(rhs);
+  // Forces that depend on the accelerations (geometric stiffness of a flexible body's frame
+  // accelerations, a small term): a few fixed-point passes with the last v'.
+  bool implicit = false;
+  for (unsigned int b = 0; b < system.n_bodies(); ++b) implicit |= system.body(b).forces_depend_on_acceleration();
+  for (unsigned int pass = 0; implicit && pass < 3; ++pass)
+    {
+      Vector<double> v_dot(nv);
+      for (unsigned int i = 0; i < nv; ++i) v_dot[i] = rhs[i];
+      system.generalized_forces(t, y, Q, &v_dot);
+      rhs = rhs0;
+      for (unsigned int i = 0; i < nv; ++i) rhs[i] = Q[i];
+      K.solve(rhs);
+    }
 
   Vector<double> q_dot;
   system.coordinate_rates(y, q_dot);

@@ -23,7 +23,7 @@ Vector<double> equations_of_motion(const System &s, const double t, const Vector
   FullMatrix<double> M, B;
   Vector<double> Q, phi, phi_t, R(s.n_v());
   s.mass_matrix(y, M);
-  s.generalized_forces(t, y, Q);
+  s.generalized_forces(t, y, Q, &vp0);
   s.constraints(t, y, false, phi, B, phi_t);
   M.vmult(R, vp0);
   R -= Q;

@@ -240,7 +240,7 @@ void System::body_residual(const unsigned int b, const double t, const Vector<do
   FullMatrix<double> M;
   s.body->mass_matrix(q, M);
   std::vector<double> Q(n_v);
-  s.body->forces(q, v, g, Q.data());
+  s.body->forces(q, v, g, Q.data(), vp);
   for (unsigned int i = 0; i < n_v; ++i)
     {
       double Mvp = 0;

@@ -106,7 +106,9 @@ public:
 
   // Pieces for initial conditions, monitors, linearisation (all in v-coordinates, dense)
   void mass_matrix(const dealii::Vector<double> &y, dealii::FullMatrix<double> &M) const;
-  void generalized_forces(double t, const dealii::Vector<double> &y, dealii::Vector<double> &Q) const;
+  /// Q at (t, y); @p v_dot (n_v, optional): the accelerations, for forces that depend on them.
+  void generalized_forces(double t, const dealii::Vector<double> &y, dealii::Vector<double> &Q,
+                          const dealii::Vector<double> *v_dot = nullptr) const;
   /// Joint equations (all, or the active ones) at y: Phi, B (rows x n_v) and Phi_t.
   void constraints(double t, const dealii::Vector<double> &y, bool all_equations, dealii::Vector<double> &phi,
                    dealii::FullMatrix<double> &B, dealii::Vector<double> &phi_t) const;
@@ -166,6 +168,9 @@ private:
                  const dealii::FullMatrix<double> &block);
   void element_differences(unsigned int kind, unsigned int index, double t, const dealii::Vector<double> &y,
                            const dealii::Vector<double> &yp);
+  /// d(M v' - Q)/dv' of body @p b into @p M (its mass matrix), frame columns, by differences.
+  void acceleration_differences(unsigned int b, double t, const dealii::Vector<double> &y,
+                                const dealii::Vector<double> &yp, dealii::FullMatrix<double> &M) const;
 
   Vector3 g;
   std::vector<BodySlot> bodies;

@@ -3,7 +3,9 @@
 //    multiplier, B^T on lambda, and Phi_q in the position-constraint rows;
 //  - central differences of each element's residual w.r.t. the q and v entries it reads (the
 //    derivatives of M v' - Q, of T v and of the multiplier terms), step h = 1e-6 (1 + |y_c|):
-//    truncation O(h^2 y''') and rounding O(eps / h) both near 1e-10 relative.
+//    truncation O(h^2 y''') and rounding O(eps / h) both near 1e-10 relative;
+//  - for a body whose forces depend on its frame accelerations (geometric stiffening), the
+//    columns of v'_frame by central differences too (M plus -dQ/dv').
 #include <multibody/jacobian_solver.h>
 #include <multibody/system.h>
 
@@ -70,6 +72,28 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
   add_local(e.rows, e.columns, block);
 }
 
+void System::acceleration_differences(const unsigned int b, const double t, const Vector<double> &y,
+                                      const Vector<double> &yp, FullMatrix<double> &M) const
+{
+  // M's columns 0..5 (frame accelerations) become central differences of the body's residual
+  // w.r.t. v'; forces depend on no other acceleration (Body::forces_depend_on_acceleration).
+  const BodySlot &s = bodies[b];
+  const unsigned int n_q = s.body->n_q(), n_v = s.body->n_v();
+  Vector<double> ypp(yp);
+  std::vector<double> plus, minus;
+  for (unsigned int c = 0; c < 6; ++c)
+    {
+      const unsigned int col = nq + s.v + c;
+      const double h = relative_step * (1 + std::abs(yp[col]));
+      ypp[col] = yp[col] + h;
+      body_residual(b, t, y, ypp, plus);
+      ypp[col] = yp[col] - h;
+      body_residual(b, t, y, ypp, minus);
+      ypp[col] = yp[col];
+      for (unsigned int r = 0; r < n_v; ++r) M(r, c) = (plus[n_q + r] - minus[n_q + r]) / (2 * h);
+    }
+}
+
 void System::assemble_jacobian(const double t, const double alpha, const Vector<double> &y, const Vector<double> &yp)
 {
   const unsigned int l0 = nq + nv, m0 = nq + nv + nlambda;
@@ -107,6 +131,8 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
       s.body->mass_matrix((y.begin() + (s.q)), M);
       std::vector<unsigned int> v_rows(s.body->n_v());
       for (unsigned int i = 0; i < v_rows.size(); ++i) v_rows[i] = nq + s.v + i;
+      if (s.body->forces_depend_on_acceleration()) // alpha d(M v' - Q)/dv' on the frame columns
+        acceleration_differences(b, t, y, yp, M);
       M *= alpha;
       add_local(v_rows, v_rows, M); // alpha M
       for (unsigned int i = 0; i < 4; ++i) solver->add(s.q + 3 + i, m0 + s.normalisation, 2 * y[s.q + 3 + i]);

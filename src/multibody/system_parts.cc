@@ -20,11 +20,14 @@ void System::mass_matrix(const Vector<double> &y, FullMatrix<double> &M) const
     }
 }
 
-void System::generalized_forces(const double t, const Vector<double> &y, Vector<double> &Q) const
+void System::generalized_forces(const double t, const Vector<double> &y, Vector<double> &Q,
+                                const Vector<double> *v_dot) const
 {
   Q.reinit(nv);
   for (const auto &b : bodies)
-    if (!b.body->is_ground()) b.body->forces((y.begin() + (b.q)), (y.begin() + (nq + b.v)), g, (Q.begin() + (b.v)));
+    if (!b.body->is_ground())
+      b.body->forces((y.begin() + (b.q)), (y.begin() + (nq + b.v)), g, (Q.begin() + (b.v)),
+                     v_dot ? v_dot->begin() + b.v : nullptr);
   for (unsigned int f = 0; f < forces.size(); ++f)
     {
       std::vector<double *> Qb;
