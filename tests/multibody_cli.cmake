@@ -45,3 +45,15 @@ flextrack_bad_input(run_missing_body_scene
   run multibody_input/missing_body_scene.prm)
 flextrack_bad_input(linearize_needs_multibody_scene "entry 'Model': is 'arm'; 'flextrack run' and 'flextrack linearize' need 'Model = multibody'"
   linearize input/straight_cantilever.prm)
+
+# A joint naming an interface the flexible body does not have: the allowed interfaces are listed.
+# The scene uses the reduced body that the flexible-pendulum test leaves in its cache.
+file(WRITE ${MB_OUT}/unknown_interface.prm
+  "set Model = multibody\nsubsection Multibody\n  set Bodies = boom\n  set Joints = pivot\nend\n"
+  "subsection Body boom\n  set Kind = flexible\n"
+  "  set Reduced body file = ${MB_OUT}/output/curved_boom_body/reduced_body.h5\nend\n"
+  "subsection Joint pivot\n  set Body 1 = boom\n  set Interface 1 = tipp\nend\n")
+flextrack_bad_input(run_joint_names_unknown_interface
+  "unknown_interface.prm: entry 'Joint pivot/Interface 1': body 'boom' has no interface 'tipp'; allowed: tip"
+  run ${MB_OUT}/unknown_interface.prm)
+set_tests_properties(cli_bad_input_run_joint_names_unknown_interface PROPERTIES DEPENDS cli_run_flexible_pendulum_balances_energy)
