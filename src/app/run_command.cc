@@ -9,6 +9,7 @@
 #include <app/commands.h>
 #include <base/input_error.h>
 #include <base/solver_error.h>
+#include <io/animation_writer.h>
 #include <io/multibody_scene.h>
 #include <io/output_folder.h>
 #include <io/run_results.h>
@@ -151,6 +152,17 @@ int run_command(const Options &options, const io::SceneFile &file)
   const MonitorValues start = monitors.evaluate(settings.start_time, y);
   recorder.record(settings.start_time, y, start, 0.0);
 
+  std::unique_ptr<io::AnimationWriter> animation;
+  double next_frame = settings.start_time;
+  const auto animate = [&](const double time, const Vector<double> &state) {
+    if (!animation || time < next_frame - 1e-9 * scene.animation_interval) return;
+    TimerOutput::Scope t(timer, "animation frames");
+    animation->add_frame(time, state, out);
+    while (next_frame <= time + 1e-9 * scene.animation_interval) next_frame += scene.animation_interval;
+  };
+  if (scene.animation_interval > 0) animation = std::make_unique<io::AnimationWriter>(system);
+  animate(settings.start_time, y);
+
   ProgressReport progress(settings.start_time, settings.end_time);
   std::string failure;
   {
@@ -161,6 +173,7 @@ int run_command(const Options &options, const io::SceneFile &file)
                       [&](const double time, const Vector<double> &state, const Vector<double> &) {
                         const MonitorValues m = monitors.evaluate(time, state);
                         recorder.record(time, state, m, multibody::Monitors::balance_error(start, m));
+                        animate(time, state);
                         progress.update(time, ida.statistics().steps);
                       });
       }
@@ -174,6 +187,7 @@ int run_command(const Options &options, const io::SceneFile &file)
   {
     TimerOutput::Scope t(timer, "write results");
     recorder.write_hdf5(out);
+    if (animation) animation->finish(out);
     out.add_parameters(*scene.parameters);
     io::JsonObject drift;
     drift.add("position_residual", recorder.max_position_residual)
@@ -190,6 +204,7 @@ int run_command(const Options &options, const io::SceneFile &file)
       .add("end_time_s", settings.end_time)
       .add("time_reached_s", recorder.last_time())
       .add("output_rows", recorder.n_rows())
+      .add("animation_frames", animation ? animation->n_frames() : 0u)
       .add("unknowns", system.size())
       .add("integrator", statistics_json(ida.statistics()))
       .add("initial_conditions", initial_conditions_json(report))
@@ -213,7 +228,8 @@ int run_command(const Options &options, const io::SceneFile &file)
     throw SolverError(failure + ". The " + std::to_string(recorder.n_rows()) + " output rows up to t = " +
                       std::to_string(recorder.last_time()) + " s are in " + out.path() + "/");
   std::cout << "  results in " << out.path() << "/ (" << (scene.probes.empty() ? "" : "probes.csv, ")
-            << "monitors.csv, results.h5, summary.json, parameters_used.prm)" << std::endl;
+            << "monitors.csv, results.h5, summary.json, parameters_used.prm"
+            << (animation ? ", animation.pvd" : "") << ")" << std::endl;
   return 0;
 }
 } // namespace flextrack::app

@@ -11,6 +11,8 @@
 #include <multibody/force.h>
 #include <multibody/joint_table.h>
 
+#include <deal.II/base/symmetric_tensor.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
@@ -81,6 +83,74 @@ void check_references(ParameterHandler &prm, const SceneNames &names)
       check("Probe " + p, "Body", prm.get("Body"));
       if (base::trim(prm.get("Frame")) != "global") check("Probe " + p, "Frame", prm.get("Frame"));
     });
+}
+
+/// The largest magnitude a number of an entry may have: far beyond any machine (a position of
+/// 1000 km, a speed of 1000 km/s), yet small enough that squares and products of such numbers
+/// stay finite and the integrator's error weights meaningful. Rows: subsection kind, entry,
+/// limit, unit. A larger number (1e300, say) is refused with the entry's name instead of
+/// failing deep inside a factorisation or the integrator.
+struct Limit
+{
+  const char *kind, *entry;
+  double limit;
+  const char *unit;
+};
+const Limit limits[] = {
+  {"Multibody", "Gravity", 1e6, "m/s^2"},        {"Multibody", "Start time", 1e9, "s"},
+  {"Multibody", "End time", 1e9, "s"},           {"Multibody", "Output interval", 1e9, "s"},
+  {"Body", "Mass", 1e12, "kg"},                  {"Body", "Centre of mass", 1e6, "m"},
+  {"Body", "Inertia", 1e15, "kg m^2"},           {"Body", "Position", 1e6, "m"},
+  {"Body", "Rotation vector", 1e6, "rad"},       {"Body", "Euler parameters", 1e6, "-"},
+  {"Body", "Velocity", 1e6, "m/s"},              {"Body", "Angular velocity", 1e6, "rad/s"},
+  {"Body", "Modal coordinates", 1e6, "modal units"}, {"Body", "Modal velocities", 1e6, "modal units/s"},
+  {"Joint", "Position", 1e6, "m"},               {"Joint", "Axis", 1e6, "-"},
+  {"Joint", "Reference axis", 1e6, "-"},         {"Force", "Position 1", 1e6, "m"},
+  {"Force", "Position 2", 1e6, "m"},             {"Force", "Axis", 1e6, "-"},
+  {"Force", "Stiffness", 1e15, "N/m or N m/rad"}, {"Force", "Damping", 1e15, "N s/m or N m s/rad"},
+  {"Force", "Free length", 1e6, "m"},            {"Force", "Free angle", 1e6, "rad"},
+  {"Probe", "Position", 1e6, "m"},
+};
+
+/// Every number of the entries of @p limits within bounds (the current subsection is of @p kind).
+void check_magnitudes(ParameterHandler &prm, const std::string &kind, const std::string &instance)
+{
+  for (const auto &l : limits)
+    {
+      if (kind != l.kind) continue;
+      const std::string entry = instance + l.entry;
+      for (const auto &word : base::words(prm.get(l.entry)))
+        if (std::abs(base::parse_number(word, entry, std::string("a number [") + l.unit + "]")) > l.limit)
+          {
+            std::ostringstream bound;
+            bound << "every number must lie within +-" << l.limit << " " << l.unit << ", not " << base::printable_excerpt(word);
+            throw InputError(entry, bound.str());
+          }
+    }
+}
+
+void check_all_magnitudes(ParameterHandler &prm, const SceneNames &names)
+{
+  const std::pair<const char *, const std::vector<std::string> *> instances[] = {
+    {"Body", &names.bodies}, {"Joint", &names.joints}, {"Force", &names.forces}, {"Probe", &names.probes}};
+  for (const auto &[kind, list] : instances)
+    for (const auto &name : *list)
+      in_instance(prm, kind, name, [&] { check_magnitudes(prm, kind, std::string(kind) + " " + name + "/"); });
+}
+
+/// A rigid body's inertia tensor is positive definite and its principal moments satisfy the
+/// triangle inequality J_i <= J_j + J_k (a real mass distribution has both).
+void check_inertia(const RigidProperties &r, const std::string &entry)
+{
+  dealii::SymmetricTensor<2, 3> J;
+  for (unsigned int i = 0; i < 3; ++i)
+    for (unsigned int j = i; j < 3; ++j) J[i][j] = r.inertia_centre_of_mass[i][j];
+  const auto e = dealii::eigenvalues(J); // descending
+  const double scale = std::max(std::abs(e[0]), 1e-300);
+  if (!(e[2] > 1e-12 * scale) || e[0] > (e[1] + e[2]) * (1 + 1e-12))
+    throw InputError(entry, "is not the inertia of a body: the principal moments (" + std::to_string(e[0]) + ", " +
+                              std::to_string(e[1]) + ", " + std::to_string(e[2]) +
+                              " kg m^2) must be positive and none larger than the sum of the others");
 }
 
 /// The input hash stored in a reduced body file, empty if there is no readable file.
@@ -182,6 +252,7 @@ std::unique_ptr<FloatingBody> make_body(ParameterHandler &prm, const std::string
         {
           throw InputError(prefix + e.entry(), e.message());
         }
+      check_inertia(properties, prefix + "Inertia");
       d << "rigid, " << properties.mass << " kg";
       description = d.str();
       return std::make_unique<FloatingBody>(name, properties, initial);
@@ -216,6 +287,9 @@ void declare_multibody_scene(ParameterHandler &prm, const SceneNames &names)
   prm.enter_subsection("Output");
   prm.declare_entry("Directory", "", Patterns::Anything(),
                     "Folder of the results (-o overrides it); empty: output/<scene file name> [-].");
+  prm.declare_entry("Animation interval", "0", Patterns::Double(0),
+                    "Time between the frames of the VTU/PVD animation (animation.pvd, one animation_NNNNN.vtu "
+                    "per frame, taken at the output rows) [s]; 0: no animation.");
   prm.leave_subsection();
 }
 
@@ -235,10 +309,18 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
       auto &prm = *scene.parameters;
       declare_multibody_scene(prm, scene.names);
       file.parse(prm, false);
+      prm.enter_subsection("Multibody");
+      check_magnitudes(prm, "Multibody", "Multibody/");
+      prm.leave_subsection();
+      check_all_magnitudes(prm, scene.names);
       scene.settings = SimulationSettings::parse_parameters(prm);
       prm.enter_subsection("Output");
       scene.output_directory = base::trim(prm.get("Directory"));
+      scene.animation_interval = prm.get_double("Animation interval");
       prm.leave_subsection();
+      if (scene.animation_interval > 0 &&
+          (scene.settings.end_time - scene.settings.start_time) / scene.animation_interval > 1e5)
+        throw InputError("Output/Animation interval", "asks for more than 1e5 frames; choose a longer interval");
       check_references(prm, scene.names);
 
       scene.system = std::make_unique<System>(scene.settings.gravity);

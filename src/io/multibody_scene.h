@@ -36,6 +36,7 @@ struct MultibodyScene
   /// One line per body: "crank: rigid, 0.5 kg", "boom: flexible, 26 modes (cached ...)".
   std::vector<std::string> body_descriptions;
   std::string output_directory; ///< Output/Directory (empty: the default rule of OutputFolder)
+  double animation_interval = 0; ///< Output/Animation interval [s]; 0: no animation
   /// The parameters as read (parameters_used.prm, summary.json).
   std::shared_ptr<dealii::ParameterHandler> parameters;
 };

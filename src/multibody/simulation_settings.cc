@@ -84,6 +84,13 @@ SimulationSettings SimulationSettings::parse_parameters(ParameterHandler &prm)
   s.integrator.parse_parameters(prm);
   prm.leave_subsection();
   prm.leave_subsection();
+  // Zero tolerances are legal numbers but leave IDA an error weight of 1/0.
+  if (!(s.integrator.absolute_tolerance > 0))
+    throw InputError("Multibody/Integrator/Absolute tolerance", "must be > 0 (m, rad, modal units and per s)");
+  if (!(s.integrator.multiplier_tolerance > 0))
+    throw InputError("Multibody/Integrator/Multiplier tolerance", "must be > 0 (N, N m, 1/s)");
+  if (!(s.integrator.relative_tolerance < 1))
+    throw InputError("Multibody/Integrator/Relative tolerance", "must be < 1");
   if (!(s.end_time > s.start_time))
     throw InputError("Multibody/End time", "must be later than the start time (" + std::to_string(s.start_time) + " s)");
   if (s.output_interval > 0 && (s.end_time - s.start_time) / s.output_interval > 1e7)

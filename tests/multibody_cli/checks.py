@@ -134,6 +134,16 @@ def slider_crank(exe, scene, out):
                 (("crank_pin_x_m", 0.05), ("crank_pin_y_m", 0), ("crank_pin_z_m", 0)))
     moving = max(max(abs(a) for a in p[c]) for c in ("crank_pin_vx_m_per_s", "crank_pin_vy_m_per_s"))
     check(fixed < 1e-12 and moving < 1e-9, f"probe in the crank frame stays at (0.05, 0, 0) m ({fixed:.1e} m, {moving:.1e} m/s)")
+    # The animation: a frame every 0.02 s of 2 s (101), each with the three bodies as boxes of 8
+    # corners and 6 faces; the slider's box sits on the slider probe at t = 0.
+    import meshio
+    with open(os.path.join(out, "animation.pvd")) as f:
+        frames = re.findall(r'timestep="([^"]+)" .*file="([^"]+)"', f.read())
+    check(len(frames) == 101 and abs(float(frames[-1][0]) - 2) < 1e-12, f"animation.pvd lists 101 frames to t = 2 s ({len(frames)})")
+    mesh = meshio.read(os.path.join(out, frames[0][1]))
+    check(len(mesh.points) == 24 and sum(len(c.data) for c in mesh.cells) == 18, "a frame holds three boxes (24 points, 18 faces)")
+    slider = mesh.points[16:24].mean(axis=0)
+    check(abs(slider[0] - 0.4) < 1e-9 and abs(slider[1]) < 1e-9, f"the slider's box is centred on the slider at t = 0: {slider}")
     dropped = summary["initial_conditions"]["dropped_redundant_equations"]
     check(len(dropped) == 3, f"three redundant equations of the planar loop dropped and named: {dropped}")
 
