@@ -22,9 +22,14 @@ flextrack_multibody_check(run_solver_failure_keeps_rows_and_says_what_to_change 
 set_tests_properties(cli_run_flexible_pendulum_balances_energy PROPERTIES TIMEOUT 600)
 
 add_test(NAME cli_run_eight_processes_at_once
-  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/multibody_cli/eight_at_once.sh $<TARGET_FILE:flextrack>
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/multibody_cli/eight_at_once.sh $<TARGET_FILE:flextrack> run
           ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_1s.prm ${MB_OUT}/eight_at_once)
-set_tests_properties(cli_run_eight_processes_at_once PROPERTIES LABELS cli)
+# The same for a command that starts MPI (each singleton keeps its session files in a folder of
+# its own, src/app/main.cc).
+add_test(NAME cli_modes_eight_processes_at_once
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/multibody_cli/eight_at_once.sh $<TARGET_FILE:flextrack> modes
+          ${CMAKE_CURRENT_SOURCE_DIR}/input/straight_cantilever.prm ${MB_OUT}/eight_modes_at_once)
+set_tests_properties(cli_run_eight_processes_at_once cli_modes_eight_processes_at_once PROPERTIES LABELS cli)
 
 # Bad input: exit status 2, one line naming the file, the entry and what is allowed, no output.
 flextrack_bad_input(run_joint_names_unknown_body
