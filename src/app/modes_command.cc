@@ -28,15 +28,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-/// Removes the mode-shape files of an earlier run (it may have had more modes than this one).
-void remove_mode_shapes(const std::string &folder)
-{
-  if (!io::is_first_process()) return;
-  std::error_code ec;
-  for (const auto &entry : fs::directory_iterator(folder, ec))
-    if (entry.path().filename().string().rfind("mode_shapes", 0) == 0) fs::remove(entry.path(), ec);
-}
-
 struct ModalRun
 {
   unsigned int n_dofs = 0, n_free_dofs = 0, n_cells = 0;
@@ -156,12 +147,12 @@ int modes_command(const Options &options, const io::SceneFile &file)
     TimerOutput::Scope t(timer, "write output");
     out.add_frequencies(f);
     out.add_parameters(prm);
-    remove_mode_shapes(out.path());
+    io::remove_mode_shapes(out.path());
     if (scene.output.mode_shapes && model.arm && io::is_first_process())
-      io::write_mode_shapes<1>(out.path(), model.arm->dof_handler(), model.arm->mapping(), run.modes.shapes,
+      io::write_mode_shapes<1>(out, model.arm->dof_handler(), model.arm->mapping(), run.modes.shapes,
                                scene.output.subdivisions);
     if (scene.output.mode_shapes && model.solid)
-      io::write_mode_shapes<3>(out.path(), model.solid->dof_handler(), model.solid->mapping(), run.modes.shapes,
+      io::write_mode_shapes<3>(out, model.solid->dof_handler(), model.solid->mapping(), run.modes.shapes,
                                std::min(scene.output.subdivisions, 2u));
   }
   io::JsonObject summary;
@@ -199,6 +190,21 @@ int converge_command(const Options &options, const io::SceneFile &file)
   ParameterHandler prm;
   const io::ArmScene scene = read_scene(file, prm, timer);
   const unsigned int K = options.refinements;
+  // The finest level is checked before the first: a level that cannot fit must not be found
+  // after an hour spent on the coarser ones.
+  try
+    {
+      const std::string how = " after " + std::to_string(K) + " refinements (--refinements)";
+      if (scene.is_solid)
+        fem::check_solid_cell_count(double(scene.solid.mesh->triangulation.n_active_cells()) * std::pow(8.0, K),
+                                    scene.solid.element, "Solid/Mesh" + how);
+      else
+        fem::check_arm_cell_count(scene.arm, std::ldexp(scene.arm.n_elements, K), how);
+    }
+  catch (const InputError &e)
+    {
+      throw e.in_file(options.file);
+    }
   std::cout << "flextrack converge: " << options.file << ", " << K << " refinements of\n  " << describe(scene)
             << std::endl;
 

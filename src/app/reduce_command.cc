@@ -9,6 +9,7 @@
 #include <io/reduced_body_cache.h>
 #include <io/reduced_body_file.h>
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
 #include <iomanip>
@@ -46,6 +47,16 @@ void print_reduced_body(const reduction::ReducedBody &b)
 
 int reduce_command(const Options &options, const io::SceneFile &file)
 {
+  // The reduction runs on one process (it builds one body and writes one file); under mpirun
+  // every rank would fail or write the same file. Say so once, from the first rank.
+  if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+    {
+      if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+        std::cerr << "flextrack: reduce runs serially: start it without mpirun (only 'modes' of an arm or a "
+                     "solid scene runs on several processes)"
+                  << std::endl;
+      return 1;
+    }
   CommandClock clock;
   auto &timer = clock.timer;
   io::BodyScene scene;

@@ -24,6 +24,12 @@ struct Support
   SupportKind kind;
 };
 
+/// Most cells of an arm's mesh, after any refinement: 200000 cells of degree 3 are 3.6e6 degrees
+/// of freedom, about 7 GiB for the matrices, their factorisation and the Lanczos vectors.
+constexpr double max_arm_cells = 200000;
+/// Most intermediate supports of one arm.
+constexpr unsigned int max_intermediate_supports = 1000;
+
 struct Arm
 {
   std::shared_ptr<const geometry::Curve> curve;
@@ -43,4 +49,9 @@ struct Arm
 };
 
 SupportKind parse_support_kind(const std::string &text, const std::string &entry);
+
+/// Refuses a mesh of @p n_cells cells (@p how: "" or " after 3 refinements") if it exceeds
+/// max_arm_cells: InputError naming the arm's "Mesh/Number of elements", with the memory the
+/// mesh would need (about 2 KiB per degree of freedom, measured).
+void check_arm_cell_count(const Arm &arm, double n_cells, const std::string &how);
 } // namespace flextrack::fem

@@ -78,6 +78,8 @@ ArmMesh::ArmMesh(const Arm &arm, const unsigned int refinement) : curve(arm.curv
                  stations.end());
   stations.back() = L;
 
+  check_arm_cell_count(arm, std::ldexp(arm.n_elements, refinement),
+                       refinement > 0 ? " after " + std::to_string(refinement) + " refinements" : std::string());
   const unsigned int n_total = arm.n_elements << refinement;
   for (std::size_t k = 0; k + 1 < stations.size(); ++k)
     {
@@ -115,11 +117,12 @@ std::pair<double, double> ArmMesh::cell_arc_lengths(const dealii::Triangulation<
 
 unsigned int ArmMesh::vertex_at(const double s) const
 {
+  // vertex_s ascends: the nearest vertex is one of the two around the first one >= s.
   const double L = curve->length();
   const double wrapped = curve->is_closed() && std::abs(s - L) <= 1e-12 * L ? 0.0 : s;
-  unsigned int best = 0;
-  for (unsigned int i = 1; i < vertex_s.size(); ++i)
-    if (std::abs(vertex_s[i] - wrapped) < std::abs(vertex_s[best] - wrapped)) best = i;
+  const auto it = std::lower_bound(vertex_s.begin(), vertex_s.end(), wrapped);
+  unsigned int best = std::min<std::size_t>(it - vertex_s.begin(), vertex_s.size() - 1);
+  if (best > 0 && std::abs(vertex_s[best - 1] - wrapped) <= std::abs(vertex_s[best] - wrapped)) --best;
   return best;
 }
 } // namespace flextrack::fem

@@ -1,5 +1,6 @@
 #include <base/input_error.h>
 #include <fem/curved_beam_model.h>
+#include <fem/symmetric_assembly.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -165,24 +166,10 @@ void CurvedBeamModel::assemble()
                   }
               }
         }
-      for (unsigned int i = 0; i < n; ++i)
-        for (unsigned int j = 0; j < i; ++j)
-          {
-            k_cell(j, i) = k_cell(i, j);
-            m_cell(j, i) = m_cell(i, j);
-          }
       cell->get_dof_indices(cell_dofs);
-      applied.distribute_local_to_global(k_cell, cell_dofs, stiffness);
-      applied.distribute_local_to_global(m_cell, cell_dofs, mass);
+      add_symmetric_cell_matrices(k_cell, m_cell, cell_dofs, applied, stiffness, mass);
     }
-  stiffness.compress(VectorOperation::add);
-  mass.compress(VectorOperation::add);
-
-  // Supported dofs: keep K's positive diagonal, zero M's, so that their eigenvalues are
-  // infinite and never among the lowest modes.
-  for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
-    if (applied.is_constrained(i)) mass.set(i, i, 0.0);
-  mass.compress(VectorOperation::insert);
+  finish_assembly(applied, stiffness, mass);
 }
 
 void CurvedBeamModel::geometric_stiffness(const Vector<double> &u, TrilinosWrappers::SparseMatrix &K_G) const

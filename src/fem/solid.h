@@ -35,4 +35,8 @@ struct Solid
   static void declare_parameters(dealii::ParameterHandler &prm);
   static Solid parse_parameters(dealii::ParameterHandler &prm, const std::string &directory);
 };
+/// Refuses a mesh of @p cells hexahedra (after any refinement) beyond 1000000 cells or beyond a
+/// lower estimate of the memory it needs on this computer, before anything is allocated:
+/// InputError naming @p entry, with the estimate.
+void check_solid_cell_count(double cells, SolidElement element, const std::string &entry);
 } // namespace flextrack::fem

@@ -1,5 +1,6 @@
 #include <fem/fe_serendipity.h>
 #include <fem/solid_model.h>
+#include <fem/symmetric_assembly.h>
 #include <base/input_error.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -28,8 +29,8 @@ std::unique_ptr<FESystem<3>> make_element(const SolidElement kind)
 }
 
 /// Reference coordinates, in the coarse ancestor of @p cell, of the point @p p of @p cell.
-template <typename Iterator>
-Point<3> coarse_coordinates(Iterator cell, Point<3> p)
+/// A plain (not active) cell iterator: it walks up to parents, which are not active.
+Point<3> coarse_coordinates(Triangulation<3>::cell_iterator cell, Point<3> p)
 {
   while (cell->level() > 0)
     {
@@ -89,7 +90,8 @@ void SolidModel::setup_geometry()
   std::vector<types::global_dof_index> local(geometry_fe.n_dofs_per_cell());
   for (const auto &cell : geometry_dofs.active_cell_iterators())
     {
-      auto coarse = cell;
+      // The coarse ancestor: a plain cell iterator, since an active one may not point to a parent.
+      Triangulation<3>::cell_iterator coarse = cell;
       while (coarse->level() > 0) coarse = coarse->parent();
       std::array<Point<3>, 20> X;
       for (unsigned int v = 0; v < 8; ++v) X[v] = mesh.triangulation.get_vertices()[coarse->vertex_index(v)];
@@ -282,20 +284,9 @@ void SolidModel::assemble()
                 }
             }
         }
-      for (unsigned int i = 0; i < n; ++i)
-        for (unsigned int j = 0; j < i; ++j)
-          {
-            k_cell(j, i) = k_cell(i, j);
-            m_cell(j, i) = m_cell(i, j);
-          }
       cell->get_dof_indices(local);
-      applied.distribute_local_to_global(k_cell, local, stiffness);
-      applied.distribute_local_to_global(m_cell, local, mass);
+      add_symmetric_cell_matrices(k_cell, m_cell, local, applied, stiffness, mass);
     }
-  stiffness.compress(VectorOperation::add);
-  mass.compress(VectorOperation::add);
-  for (const auto i : owned)
-    if (applied.is_constrained(i)) mass.set(i, i, 0.0);
-  mass.compress(VectorOperation::insert);
+  finish_assembly(applied, stiffness, mass);
 }
 } // namespace flextrack::fem

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <limits>
 
 namespace flextrack::geometry
 {
@@ -26,8 +26,8 @@ Curve::Curve(std::string description, CurveFunction y, const double p_begin, con
   : name(std::move(description)), function(std::move(y)), p0(p_begin), p1(p_end),
     arc_length_parameter(parameter_is_arc_length)
 {
-  if (!(p1 > p0))
-    throw std::invalid_argument("the parameter range of " + name + " is empty");
+  if (!(p1 > p0) || !std::isfinite(p1 - p0))
+    throw CurveError("the parameter range of the " + name + " is empty or not finite");
   if (arc_length_parameter)
     total_length = p1 - p0;
   else
@@ -55,7 +55,7 @@ void Curve::tabulate_arc_length(const std::vector<double> &breakpoints)
 {
   // Panels: at least 64 over the range, and every breakpoint is a panel end so that the
   // integrand is smooth inside each panel. Each panel is then bisected until two Gauss
-  // rules agree to 1e-15 relative.
+  // rules agree (see add_panel).
   std::vector<double> ends = {p0, p1};
   for (const double b : breakpoints)
     if (b > p0 && b < p1) ends.push_back(b);
@@ -73,14 +73,28 @@ void Curve::tabulate_arc_length(const std::vector<double> &breakpoints)
         }
     }
   total_length = s_table.back();
+  if (!std::isfinite(total_length))
+    throw CurveError("the arc length of the " + name + " is not finite (a pole or an overflow of the coordinates)");
 }
 
 void Curve::add_panel(const double a, const double b, const double integral, const int depth)
 {
+  // Accept when the two rules agree to 1e-15 relative, or to the rounding floor: the Gauss
+  // nodes themselves are only known to eps |p|, which moves the arc length of a panel by about
+  // eps |p| times the mean speed. Below that floor a smooth panel only looks unconverged
+  // (a spline through 2000 scattered points, whose knots reach p ~ 1e3, otherwise bisected
+  // into 2e7 panels).
   const double m = 0.5 * (a + b);
   const double left = gauss_integral(a, m), right = gauss_integral(m, b);
-  if (depth < 30 && std::abs(left + right - integral) > 1e-15 * std::max(integral, 1e-300))
+  const double rounding_floor = 16 * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b)) *
+                       std::abs(integral) / (b - a);
+  const double tolerance = std::max(1e-15 * std::max(integral, 1e-300), rounding_floor);
+  if (depth < 30 && std::abs(left + right - integral) > tolerance)
     {
+      if (p_table.size() > 2 * max_arc_length_panels)
+        throw CurveError("the arc length of the " + name + " does not converge within " +
+                         std::to_string(max_arc_length_panels) + " quadrature panels; the curve is not smooth "
+                         "enough (a pole, a cusp or a rapid oscillation)");
       add_panel(a, m, left, depth + 1);
       add_panel(m, b, right, depth + 1);
       return;
@@ -106,13 +120,22 @@ double Curve::parameter_at(const double s) const
     return p0 + s;
   const auto it = std::upper_bound(s_table.begin(), s_table.end(), s);
   const std::size_t i = it == s_table.begin() ? 0 : std::min<std::size_t>(it - s_table.begin() - 1, s_table.size() - 2);
-  // Newton's method on s_i + int_{p_i}^p |y'| - s = 0, started from the linear guess.
-  double p = p_table[i] + (s - s_table[i]) / (s_table[i + 1] - s_table[i]) * (p_table[i + 1] - p_table[i]);
-  for (int iteration = 0; iteration < 50; ++iteration)
+  // Newton's method on f(p) = s_i + int_{p_i}^p |y'| - s = 0, started from the linear guess and
+  // kept inside the bracket [p_i, p_i+1] (f is monotone there): a step that leaves it, or a zero
+  // speed (a cusp), bisects instead.
+  double lo = p_table[i], hi = p_table[i + 1];
+  const double ds = s_table[i + 1] - s_table[i];
+  double p = ds > 0 ? std::clamp(lo + (s - s_table[i]) / ds * (hi - lo), lo, hi) : lo;
+  for (int iteration = 0; iteration < 100; ++iteration)
     {
       const double residual = s_table[i] + gauss_integral(p_table[i], p) - s;
-      const double step = residual / speed(p);
-      p -= step;
+      if (residual == 0) break;
+      (residual > 0 ? hi : lo) = p;
+      const double v = speed(p);
+      double next = v > 0 ? p - residual / v : 0.5 * (lo + hi);
+      if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);
+      const double step = next - p;
+      p = next;
       if (std::abs(step) <= 1e-15 * (std::abs(p) + (p1 - p0)))
         break;
     }

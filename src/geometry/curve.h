@@ -2,8 +2,11 @@
 //
 // Curves come in two forms (seed eq. 44): type II is given in arc length directly; type I in a
 // general parameter t, which is converted numerically: s(t) = int |dy/dt| dt, tabulated once by
-// adaptive Gauss-Legendre quadrature to ~1e-15 relative accuracy, and inverted by Newton's
-// method. Derivatives with respect to s come from Taylor jets, so curvature, torsion and their
+// adaptive Gauss-Legendre quadrature to ~1e-15 relative accuracy (or, where the parameter values
+// are large, to the rounding error that representing t itself implies), and inverted by
+// safeguarded Newton's method. The table holds at most max_arc_length_panels panels: a curve
+// whose arc length does not converge within them (a pole, a cusp, an oscillation faster than the
+// quadrature resolves) is refused with a CurveError instead of running for hours. Derivatives with respect to s come from Taylor jets, so curvature, torsion and their
 // derivatives are exact up to rounding for any curvature (no small-curvature linearisation).
 #pragma once
 
@@ -13,6 +16,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -20,6 +24,22 @@ namespace flextrack::geometry
 {
 using dealii::Point;
 using Vec3 = dealii::Tensor<1, 3>;
+
+/// Largest coordinate and largest length of a centre line [m]: a curve beyond them is refused
+/// as absurd (an expression across its pole, a unit mistake) before it reaches the FE model.
+constexpr double max_coordinate = 1e6;
+constexpr double max_curve_length = 1e6;
+
+/// Most panels in the arc-length table of a type I curve (each is 4 doubles: 32 MiB).
+constexpr std::size_t max_arc_length_panels = std::size_t(1) << 20;
+
+/// A curve that cannot be built: empty parameter range, arc length not finite or not
+/// converging. what() says what is wrong; the caller names the entry.
+class CurveError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
 
 /// The curve's position as jets in its own parameter: y(parameter) with derivatives.
 using CurveFunction = std::function<Jet3(const Jet &parameter)>;
@@ -45,6 +65,7 @@ public:
   /// @p y: the curve on jets of its parameter p in [p_begin, p_end]. When
   /// @p parameter_is_arc_length is false (type I), arc length is computed numerically.
   /// @p breakpoints: parameter values where higher derivatives jump (spline knots).
+  /// Throws CurveError (see above).
   Curve(std::string description, CurveFunction y, double p_begin, double p_end,
         bool parameter_is_arc_length, std::vector<double> breakpoints = {});
 

@@ -16,21 +16,138 @@ using dealii::Patterns::List;
 
 namespace
 {
-Vec3 read_vector(ParameterHandler &prm, const std::string &entry)
+/// Whole numbers below 1e7 in full (100000), others in 6 significant digits (1e+13).
+std::string format(const double v)
 {
-  const auto v = base::parse_vector3(prm.get(entry), entry, "m");
+  std::ostringstream m;
+  if (v == std::floor(v) && std::abs(v) < 1e7)
+    m << static_cast<long>(v);
+  else
+    m << v;
+  return m.str();
+}
+} // namespace
+
+std::string NumberRange::text(const double value) const
+{
+  const std::string u = unit == "-" || unit.empty() ? "" : " " + unit;
+  const bool above_lower = lower_included ? value >= lower : value > lower;
+  if (above_lower && smallest > lower)
+    return ">= " + format(smallest) + u + " and <= " + format(upper) + u;
+  return (lower_included ? ">= " : "> ") + format(lower) + u + " and <= " + format(upper) + u;
+}
+
+double checked_number(const double value, const std::string &entry, const NumberRange &range)
+{
+  const bool above = range.lower_included ? value >= range.lower : value > range.lower;
+  if (!(std::isfinite(value) && above && value >= range.smallest && value <= range.upper))
+    throw InputError(entry, "must be " + range.text(value) + " (got " + format(value) + ")");
+  return value;
+}
+
+double get_number(ParameterHandler &prm, const std::string &name, const std::string &path, const NumberRange &range)
+{
+  const std::string entry = path + name;
+  return checked_number(base::parse_number(prm.get(name), entry, "a number [" + range.unit + "]"), entry, range);
+}
+
+namespace
+{
+// Ranges of the curve entries; the upper bounds are sanity limits (see max_coordinate).
+const NumberRange coordinate{-max_coordinate, max_coordinate, true, "m"};
+const NumberRange positive_length{0, max_curve_length, false, "m", 1e-6};
+
+Vec3 read_point(ParameterHandler &prm, const std::string &name, const std::string &path)
+{
+  const std::string entry = path + name;
+  const auto v = base::parse_vector3(prm.get(name), entry, "m");
+  for (const double c : v)
+    if (!(std::abs(c) <= max_coordinate))
+      {
+        std::ostringstream m;
+        m << "coordinate " << c << " m; allowed: coordinates of at most " << max_coordinate << " m in size";
+        throw InputError(entry, m.str());
+      }
   return Vec3({v[0], v[1], v[2]});
 }
 
 const auto three_numbers = List(Double(), 3, 3, ",");
 
-std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const ParseContext &where)
+/// Builds a Curve, turning a CurveError into an InputError naming @p entry.
+template <typename... Args>
+std::shared_ptr<const Curve> make_curve(const std::string &entry, Args &&...args)
 {
+  try
+    {
+      return std::make_shared<Curve>(std::forward<Args>(args)...);
+    }
+  catch (const CurveError &e)
+    {
+      throw InputError(entry, e.what());
+    }
+}
+
+/// The entries that describe a curve, for messages: the kind's subsection, the entry of each
+/// coordinate (the expressions; otherwise the subsection) and what to change if it has no length.
+struct CurveEntries
+{
+  std::string section;
+  std::array<std::string, 3> coordinate;
+  std::string advice;
+};
+
+CurveEntries entries_of(const std::string &section, const std::string &advice)
+{
+  return {section, {section, section, section}, advice};
+}
+
+std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const CurveEntries &entries)
+{
+  const std::string what = "the curve (" + curve->description() + ")";
+  // Absurd sizes (an expression across its pole, tan(t) at pi/2; a unit mistake) are refused
+  // here, before they reach the FE model as 1e13 m long arms.
+  const double L = curve->length();
+  if (!(L <= max_curve_length))
+    {
+      std::ostringstream m;
+      m << what << " is " << L << " m long; allowed: at most " << max_curve_length
+        << " m (a pole of an expression inside the parameter range, e.g. tan(t) at pi/2, makes it huge)";
+      throw InputError(entries.section, m.str());
+    }
+  auto check_position = [&](const double s) {
+    const Point<3> x = curve->position(s);
+    for (int d = 0; d < 3; ++d)
+      if (!(std::abs(x[d]) <= max_coordinate))
+        {
+          std::ostringstream m;
+          m << what << " reaches the coordinate " << "xyz"[d] << " = " << x[d] << " m at s = " << s
+            << " m; allowed: coordinates of at most " << max_coordinate << " m in size";
+          throw InputError(entries.coordinate[d], m.str());
+        }
+  };
+  check_position(0);
   // A curve of zero length cannot carry an arm; say so instead of dividing by zero later.
   const double scale = std::max(1.0, curve->position(0).norm());
-  if (!(curve->length() > 1e-12 * scale))
-    throw InputError(where.section, "the curve (" + curve->description() + ") has zero length; "
-                     "give points, radius, pitch or expressions that describe a curve of positive length");
+  if (!(L > 1e-12 * scale))
+    throw InputError(entries.section, what + " has zero length; " + entries.advice);
+  // Coordinates and the differential geometry must be finite along the whole curve.
+  constexpr int samples = 1024;
+  for (int i = 0; i <= samples; ++i)
+    {
+      const double s = L * i / samples;
+      check_position(s);
+      const CurveGeometry g = curve->geometry(s);
+      bool finite = std::isfinite(g.curvature) && std::isfinite(g.torsion);
+      for (int d = 0; d < 3; ++d) finite = finite && std::isfinite(g.tangent[d]);
+      if (!finite)
+        {
+          std::ostringstream m;
+          m << what << " has no finite tangent or curvature at s = " << s
+            << " m (a cusp, where the derivative of the position vanishes, or a singular expression); "
+               "the curve must be smooth and regular";
+          throw InputError(entries.section, m.str());
+        }
+    }
   return curve;
 }
 
@@ -38,14 +155,15 @@ std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const P
 void declare_line(ParameterHandler &prm)
 {
   prm.enter_subsection("Line");
-  prm.declare_entry("Start point", "0, 0, 0", three_numbers, "Start of the line: x, y, z [m].");
-  prm.declare_entry("End point", "1, 0, 0", three_numbers, "End of the line: x, y, z [m].");
+  prm.declare_entry("Start point", "0, 0, 0", three_numbers, "Start of the line: x, y, z [m], each at most 1e6 m in size.");
+  prm.declare_entry("End point", "1, 0, 0", three_numbers, "End of the line: x, y, z [m], each at most 1e6 m in size.");
   prm.leave_subsection();
 }
 std::shared_ptr<const Curve> create_line(ParameterHandler &prm, const ParseContext &where)
 {
+  const std::string path = where.section + "/Line/";
   prm.enter_subsection("Line");
-  const Vec3 a = read_vector(prm, "Start point"), b = read_vector(prm, "End point");
+  const Vec3 a = read_point(prm, "Start point", path), b = read_point(prm, "End point", path);
   prm.leave_subsection();
   const double L = (b - a).norm();
   const Vec3 e = L > 0 ? (b - a) / L : Vec3();
@@ -55,32 +173,32 @@ std::shared_ptr<const Curve> create_line(ParameterHandler &prm, const ParseConte
     return r;
   };
   if (!(L > 0))
-    throw InputError(where.section + "/Line", "start and end point coincide: the curve has zero length; "
+    throw InputError(path + "End point", "coincides with the 'Start point': the line has zero length; "
                      "give two distinct points [m]");
-  return checked(std::make_shared<Curve>("line", y, 0.0, L, true), where);
+  return checked(make_curve(where.section + "/Line", "line", y, 0.0, L, true),
+                 entries_of(where.section + "/Line", "give two distinct points"));
 }
 
 // ---- arc ----------------------------------------------------------------------------------
 void declare_arc(ParameterHandler &prm)
 {
   prm.enter_subsection("Arc");
-  prm.declare_entry("Radius", "1", Double(), "Radius of the circular arc [m], > 0.");
+  prm.declare_entry("Radius", "1", Double(), "Radius of the circular arc [m], 1e-6 to 1e6.");
   prm.declare_entry("Angle", "1.5707963267948966", Double(),
-                    "Angle swept by the arc [rad], > 0; 6.283185307179586 (2 pi) makes a closed ring.");
-  prm.declare_entry("Centre", "0, 0, 0", three_numbers, "Centre of the circle: x, y, z [m]. The arc lies in "
-                    "the plane z = const, starts at centre + (R, 0, 0) and turns counter-clockwise about +z.");
+                    "Angle swept by the arc [rad], > 0 and <= 2 pi; 6.283185307179586 (2 pi) makes a closed ring.");
+  prm.declare_entry("Centre", "0, 0, 0", three_numbers, "Centre of the circle: x, y, z [m], each at most 1e6 m "
+                    "in size. The arc lies in the plane z = const, starts at centre + (R, 0, 0) and turns "
+                    "counter-clockwise about +z.");
   prm.leave_subsection();
 }
 std::shared_ptr<const Curve> create_arc(ParameterHandler &prm, const ParseContext &where)
 {
+  const std::string path = where.section + "/Arc/";
   prm.enter_subsection("Arc");
-  const double R = prm.get_double("Radius"), angle = prm.get_double("Angle");
-  const Vec3 c = read_vector(prm, "Centre");
+  const double R = get_number(prm, "Radius", path, positive_length);
+  const double angle = get_number(prm, "Angle", path, {0, 2 * M_PI * (1 + 1e-12), false, "rad"});
+  const Vec3 c = read_point(prm, "Centre", path);
   prm.leave_subsection();
-  if (!(R > 0))
-    throw InputError(where.section + "/Arc/Radius", "must be > 0 m (got " + std::to_string(R) + ")");
-  if (!(angle > 0) || angle > 2 * M_PI * (1 + 1e-12))
-    throw InputError(where.section + "/Arc/Angle", "must satisfy 0 < angle <= 2 pi rad (got " + std::to_string(angle) + ")");
   // A full turn typed with limited digits is still a ring: snap it to 2 pi exactly.
   const double sweep = std::abs(angle - 2 * M_PI) < 1e-9 ? 2 * M_PI : angle;
   auto y = [R, c](const Jet &s) {
@@ -88,28 +206,29 @@ std::shared_ptr<const Curve> create_arc(ParameterHandler &prm, const ParseContex
     sin_cos((1.0 / R) * s, sn, cs);
     return Jet3{Jet::constant(c[0]) + R * cs, Jet::constant(c[1]) + R * sn, Jet::constant(c[2])};
   };
-  return checked(std::make_shared<Curve>("circular arc", y, 0.0, R * sweep, true), where);
+  return checked(make_curve(where.section + "/Arc", "circular arc", y, 0.0, R * sweep, true),
+                 entries_of(where.section + "/Arc", "give a larger Radius and Angle"));
 }
 
 // ---- helix --------------------------------------------------------------------------------
 void declare_helix(ParameterHandler &prm)
 {
   prm.enter_subsection("Helix");
-  prm.declare_entry("Radius", "0.5", Double(), "Helix radius a [m], >= 0.");
-  prm.declare_entry("Pitch", "0.4", Double(), "Rise per turn h [m]; the helix is "
+  prm.declare_entry("Radius", "0.5", Double(), "Helix radius a [m], >= 0 and <= 1e6.");
+  prm.declare_entry("Pitch", "0.4", Double(), "Rise per turn h [m], at most 1e6 m in size; the helix is "
                     "(a cos t, a sin t, h t / (2 pi)) about the z axis.");
-  prm.declare_entry("Turns", "1.5", Double(), "Number of turns [-], > 0.");
+  prm.declare_entry("Turns", "1.5", Double(), "Number of turns [-], > 0 and <= 10000; the helix is at most "
+                    "1e6 m long.");
   prm.leave_subsection();
 }
 std::shared_ptr<const Curve> create_helix(ParameterHandler &prm, const ParseContext &where)
 {
+  const std::string path = where.section + "/Helix/";
   prm.enter_subsection("Helix");
-  const double a = prm.get_double("Radius"), h = prm.get_double("Pitch"), turns = prm.get_double("Turns");
+  const double a = get_number(prm, "Radius", path, {0, max_coordinate, true, "m"});
+  const double h = get_number(prm, "Pitch", path, coordinate);
+  const double turns = get_number(prm, "Turns", path, {0, 1e4, false, "-"});
   prm.leave_subsection();
-  if (a < 0)
-    throw InputError(where.section + "/Helix/Radius", "must be >= 0 m (got " + std::to_string(a) + ")");
-  if (!(turns > 0))
-    throw InputError(where.section + "/Helix/Turns", "must be > 0 (got " + std::to_string(turns) + ")");
   const double c = h / (2 * M_PI), w = std::sqrt(a * a + c * c);
   if (!(w > 0))
     throw InputError(where.section + "/Helix", "radius and pitch are both zero: the curve has zero length; "
@@ -120,7 +239,8 @@ std::shared_ptr<const Curve> create_helix(ParameterHandler &prm, const ParseCont
     sin_cos((1.0 / w) * s, sn, cs);
     return Jet3{a * cs, a * sn, (c / w) * s};
   };
-  return checked(std::make_shared<Curve>("helix", y, 0.0, 2 * M_PI * turns * w, true), where);
+  return checked(make_curve(where.section + "/Helix", "helix", y, 0.0, 2 * M_PI * turns * w, true),
+                 entries_of(where.section + "/Helix", "give a larger Radius, Pitch or Turns"));
 }
 
 // ---- expressions (type I in t, type II in s) ------------------------------------------------
@@ -129,9 +249,12 @@ void declare_expressions(ParameterHandler &prm, const std::string &variable)
   for (const char *axis : {"x", "y", "z"})
     prm.declare_entry(std::string(axis) + "(" + variable + ")", "0", Anything(),
                       std::string("Coordinate ") + axis + " [m] as an expression in " + variable +
-                        ": + - * / ^, sin cos tan exp log sqrt sinh cosh tanh atan abs, pi and the Constants.");
+                        ": + - * / ^, sin cos tan exp log sqrt sinh cosh tanh atan abs, pi and the Constants; "
+                        "at most 10000 characters and 200 nested levels (parentheses, function arguments, signs, "
+                        "exponents). The curve must stay finite, within 1e6 m of the origin and at most 1e6 m long.");
   prm.declare_entry("Constants", "", Anything(),
-                    "Named constants usable in the expressions, e.g. \"a=0.5, c=0.1\" (SI units).");
+                    "Named constants usable in the expressions, e.g. \"a=0.5, c=0.1\" (SI units; finite; at most "
+                    "1000).");
 }
 
 std::shared_ptr<const Curve> create_from_expressions(ParameterHandler &prm, const ParseContext &where,
@@ -168,6 +291,10 @@ std::shared_ptr<const Curve> create_from_expressions(ParameterHandler &prm, cons
     for (int d = 0; d < 3; ++d) r[d] = compose(r[d], p);
     return r;
   };
+  CurveEntries entries{path, {}, ""};
+  for (int d = 0; d < 3; ++d) entries.coordinate[d] = path + "/" + "xyz"[d] + "(" + variable + ")";
+  const std::string all = "x(" + variable + "), y(" + variable + ") and z(" + variable + ")";
+  entries.advice = all + " must describe a curve of positive length";
   // The expressions must be finite over the whole range.
   for (int i = 0; i <= 64; ++i)
     {
@@ -176,36 +303,47 @@ std::shared_ptr<const Curve> create_from_expressions(ParameterHandler &prm, cons
       for (int d = 0; d < 3; ++d)
         for (int k = 0; k <= 1; ++k)
           if (!std::isfinite(r[d].c[k]))
-            throw InputError(path, "the expression for " + std::string(1, "xyz"[d]) + "(" + variable + ") or its "
-                             "derivative is not finite at " + variable + " = " + std::to_string(p) +
-                             "; the curve must be smooth over the whole range");
-      if (arc_length && std::abs(Vec3({r[0].c[1], r[1].c[1], r[2].c[1]}).norm() - 1) > 1e-6)
-        throw InputError(path, "the curve is not parametrised by arc length (|dy/ds| = " +
-                         std::to_string(Vec3({r[0].c[1], r[1].c[1], r[2].c[1]}).norm()) + " at s = " +
-                         std::to_string(p) + ", must be 1); use Kind = parametric for a general parameter");
+            {
+              std::ostringstream m;
+              m << "the expression or its derivative is not finite at " << variable << " = " << p
+                << "; the curve must be smooth over the whole range";
+              throw InputError(entries.coordinate[d], m.str());
+            }
+      const double speed = Vec3({r[0].c[1], r[1].c[1], r[2].c[1]}).norm();
+      if (arc_length && std::abs(speed - 1) > 1e-6)
+        {
+          std::ostringstream m;
+          m << "the curve " << all << " is not parametrised by arc length (|dy/ds| = " << speed << " at s = " << p
+            << ", must be 1); use Kind = parametric for a general parameter";
+          throw InputError(path, m.str());
+        }
     }
-  return checked(std::make_shared<Curve>(std::string(arc_length ? "arc-length" : "parametric") + " curve (" +
-                                           xyz[0].text() + ", " + xyz[1].text() + ", " + xyz[2].text() + ")",
-                                         y, begin, end, arc_length),
-                 where);
+  auto excerpt = [](const Expression &e) { return base::printable_excerpt(e.text(), 40); };
+  return checked(make_curve(path, std::string(arc_length ? "arc-length" : "parametric") + " curve (" + excerpt(xyz[0]) +
+                              ", " + excerpt(xyz[1]) + ", " + excerpt(xyz[2]) + ")",
+                            y, begin, end, arc_length),
+                 entries);
 }
 
 void declare_parametric(ParameterHandler &prm)
 {
   prm.enter_subsection("Parametric");
   declare_expressions(prm, "t");
-  prm.declare_entry("Parameter start", "0", Double(), "First value of the parameter t [-].");
-  prm.declare_entry("Parameter end", "1", Double(), "Last value of the parameter t [-], > start.");
+  prm.declare_entry("Parameter start", "0", Double(), "First value of the parameter t [-], at most 1e6 in size.");
+  prm.declare_entry("Parameter end", "1", Double(), "Last value of the parameter t [-], > start, at most 1e6 in size.");
   prm.leave_subsection();
 }
 std::shared_ptr<const Curve> create_parametric(ParameterHandler &prm, const ParseContext &where)
 {
+  const std::string path = where.section + "/Parametric/";
   prm.enter_subsection("Parametric");
-  const double t0 = prm.get_double("Parameter start"), t1 = prm.get_double("Parameter end");
+  const NumberRange parameter{-1e6, 1e6, true, "-"};
+  const double t0 = get_number(prm, "Parameter start", path, parameter);
+  const double t1 = get_number(prm, "Parameter end", path, parameter);
   if (!(t1 > t0))
     {
       prm.leave_subsection();
-      throw InputError(where.section + "/Parametric/Parameter end", "must be greater than 'Parameter start'");
+      throw InputError(path + "Parameter end", "must be greater than 'Parameter start'");
     }
   try
     {
@@ -224,17 +362,15 @@ void declare_arc_length(ParameterHandler &prm)
 {
   prm.enter_subsection("Arc length");
   declare_expressions(prm, "s");
-  prm.declare_entry("Length", "1", Double(), "Length L of the curve [m], > 0; s runs over [0, L].");
+  prm.declare_entry("Length", "1", Double(), "Length L of the curve [m], 1e-6 to 1e6; s runs over [0, L].");
   prm.leave_subsection();
 }
 std::shared_ptr<const Curve> create_arc_length(ParameterHandler &prm, const ParseContext &where)
 {
   prm.enter_subsection("Arc length");
-  const double L = prm.get_double("Length");
   try
     {
-      if (!(L > 0))
-        throw InputError(where.section + "/Arc length/Length", "must be > 0 m (got " + std::to_string(L) + ")");
+      const double L = get_number(prm, "Length", where.section + "/Arc length/", positive_length);
       auto curve = create_from_expressions(prm, where, "Arc length", "s", 0.0, L, true);
       prm.leave_subsection();
       return curve;
@@ -253,7 +389,8 @@ void declare_spline(ParameterHandler &prm)
   prm.declare_entry("Points file", "", Anything(),
                     "Text file with one point \"x y z\" [m] per line (blanks or commas; # starts a "
                     "comment), relative to the parameter file's directory. A natural cubic spline in "
-                    "chord length interpolates the points.");
+                    "chord length interpolates the points. At most 100000 points, each coordinate at most "
+                    "1e6 m in size; at most 64 MiB.");
   prm.leave_subsection();
 }
 std::shared_ptr<const Curve> create_spline(ParameterHandler &prm, const ParseContext &where)
@@ -263,7 +400,16 @@ std::shared_ptr<const Curve> create_spline(ParameterHandler &prm, const ParseCon
   prm.leave_subsection();
   if (!file.empty() && file[0] != '/' && !where.directory.empty())
     file = where.directory + "/" + file;
-  return checked(make_spline_curve(file, where.section + "/Spline/Points file"), where);
+  const std::string entry = where.section + "/Spline/Points file";
+  const auto points = read_points(file, entry);
+  try
+    {
+      return checked(make_spline_curve(points), entries_of(entry, "give points that are further apart"));
+    }
+  catch (const CurveError &e)
+    {
+      throw InputError(entry, e.what());
+    }
 }
 } // namespace
 

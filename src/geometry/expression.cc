@@ -1,6 +1,7 @@
 #include <geometry/expression.h>
 #include <base/text.h>
 
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <set>
@@ -24,6 +25,10 @@ Expression::Expression(const std::string &text, const std::string &variable,
                        const std::map<std::string, double> &constants)
   : source(text), variable_name(variable), constant_values(constants)
 {
+  if (source.size() > max_expression_length)
+    throw ExpressionError("the expression \"" + base::printable_excerpt(source, 40) + "\" has " +
+                          std::to_string(source.size()) + " characters; at most " +
+                          std::to_string(max_expression_length) + " are allowed");
   constant_values.emplace("pi", M_PI);
   skip_blanks();
   if (pos == source.size())
@@ -34,11 +39,23 @@ Expression::Expression(const std::string &text, const std::string &variable,
     fail("an operator (+ - * / ^) or the end of the expression");
 }
 
-void Expression::fail(const std::string &what) const
+Expression::Level::Level(Expression &e) : expression(e)
 {
+  if (++expression.depth > max_expression_depth)
+    expression.fail_because("nested deeper than " + std::to_string(max_expression_depth) +
+                            " levels (each parenthesis, function argument, sign and exponent opens one); at most " +
+                            std::to_string(max_expression_depth) + " are allowed: simplify the expression or move "
+                            "parts of it into Constants");
+}
+
+void Expression::fail_because(const std::string &reason) const
+{
+  // Quote a short printable excerpt around the position, never the whole (possibly huge) text.
+  constexpr std::size_t before = 30, width = 60;
+  const std::size_t start = pos > before ? pos - before : 0;
   std::ostringstream m;
-  m << "cannot parse expression \"" << source << "\" at character " << pos + 1 << ": expected "
-    << what;
+  m << "cannot parse expression \"" << (start > 0 ? "..." : "")
+    << base::printable_excerpt(source.substr(start), width) << "\" at character " << pos + 1 << ": " << reason;
   throw ExpressionError(m.str());
 }
 
@@ -87,6 +104,7 @@ int Expression::parse_unary()
   if (pos < source.size() && (source[pos] == '-' || source[pos] == '+'))
     {
       const bool negate = source[pos++] == '-';
+      const Level level(*this);
       const int operand = parse_unary();
       return negate ? add({Op::neg, 0, operand, -1, {}}) : operand;
     }
@@ -100,6 +118,7 @@ int Expression::parse_power()
   if (pos < source.size() && source[pos] == '^')
     {
       ++pos;
+      const Level level(*this);
       const int exponent = parse_unary(); // right associative: a^b^c = a^(b^c)
       return add({Op::pow, 0, base, exponent, {}});
     }
@@ -115,6 +134,7 @@ int Expression::parse_primary()
   if (c == '(')
     {
       ++pos;
+      const Level level(*this);
       const int inner = parse_sum();
       skip_blanks();
       if (pos >= source.size() || source[pos] != ')')
@@ -129,6 +149,8 @@ int Expression::parse_primary()
       const double v = std::strtod(begin, &end);
       if (end == begin)
         fail("a number");
+      if (!std::isfinite(v))
+        fail("a finite number (at most about 1.8e308)");
       pos += static_cast<std::size_t>(end - begin);
       return add({Op::constant, v, -1, -1, {}});
     }
@@ -145,9 +167,10 @@ int Expression::parse_primary()
           if (known_functions.count(name) == 0)
             {
               pos = start;
-              fail("a known function (" + function_list() + "), not \"" + name + "\"");
+              fail("a known function (" + function_list() + "), not \"" + base::printable_excerpt(name, 40) + "\"");
             }
           ++pos;
+          const Level level(*this);
           const int argument = parse_sum();
           skip_blanks();
           if (pos >= source.size() || source[pos] != ')')
@@ -161,35 +184,49 @@ int Expression::parse_primary()
         return add({Op::constant, it->second, -1, -1, {}});
       pos = start;
       fail("the variable \"" + variable_name + "\", pi or a declared constant, not the unknown name \"" +
-           name + "\"");
+           base::printable_excerpt(name, 40) + "\"");
     }
-  fail("a number, a name or '(' (found '" + std::string(1, c) + "')");
+  fail("a number, a name or '(' (found '" + base::printable_excerpt(std::string(1, c)) + "')");
 }
 
-Jet Expression::evaluate(const Jet &x) const { return evaluate_node(root, x); }
-
-Jet Expression::evaluate_node(const int index, const Jet &x) const
+Jet Expression::evaluate(const Jet &x) const
 {
-  const Node &n = nodes[index];
+  // Operands precede their operation in `nodes` (a node is added after its operands are
+  // parsed), so one pass in index order evaluates the tree without recursion.
+  constexpr std::size_t on_stack = 32;
+  std::array<Jet, on_stack> small;
+  std::vector<Jet> large;
+  Jet *values = small.data();
+  if (nodes.size() > on_stack)
+    {
+      large.resize(nodes.size());
+      values = large.data();
+    }
+  for (int i = 0; i <= root; ++i) values[i] = evaluate_node(nodes[i], values, x);
+  return values[root];
+}
+
+Jet Expression::evaluate_node(const Node &n, const Jet *values, const Jet &x) const
+{
   switch (n.op)
     {
       case Op::constant: return Jet::constant(n.value);
       case Op::variable: return x;
-      case Op::add: return evaluate_node(n.a, x) + evaluate_node(n.b, x);
-      case Op::sub: return evaluate_node(n.a, x) - evaluate_node(n.b, x);
-      case Op::mul: return evaluate_node(n.a, x) * evaluate_node(n.b, x);
-      case Op::div: return evaluate_node(n.a, x) / evaluate_node(n.b, x);
-      case Op::neg: return -evaluate_node(n.a, x);
+      case Op::add: return values[n.a] + values[n.b];
+      case Op::sub: return values[n.a] - values[n.b];
+      case Op::mul: return values[n.a] * values[n.b];
+      case Op::div: return values[n.a] / values[n.b];
+      case Op::neg: return -values[n.a];
       case Op::pow:
         {
-          const Jet base = evaluate_node(n.a, x), exponent = evaluate_node(n.b, x);
+          const Jet &base = values[n.a], &exponent = values[n.b];
           bool constant_exponent = true;
           for (int k = 1; k <= jet_order; ++k) constant_exponent &= exponent.c[k] == 0.0;
           return constant_exponent ? pow(base, exponent.c[0]) : exp(exponent * log(base));
         }
       case Op::func:
         {
-          const Jet a = evaluate_node(n.a, x);
+          const Jet &a = values[n.a];
           const std::string &f = n.function;
           Jet s, c;
           if (f == "sin" || f == "cos" || f == "tan")
@@ -217,19 +254,28 @@ std::map<std::string, double> parse_constants(const std::string &text)
   std::map<std::string, double> result;
   std::istringstream in(text);
   std::string item;
+  std::size_t count = 0;
   while (std::getline(in, item, ','))
     {
       const auto eq = item.find('=');
       using base::trim;
       if (trim(item).empty()) continue;
+      if (++count > max_constants)
+        throw ExpressionError("more than " + std::to_string(max_constants) + " constants; at most " +
+                              std::to_string(max_constants) + " are allowed");
       if (eq == std::string::npos)
-        throw ExpressionError("constant definition \"" + trim(item) + "\" is not of the form name=value");
+        throw ExpressionError("constant definition \"" + base::printable_excerpt(trim(item), 40) +
+                              "\" is not of the form name=value");
       const std::string name = trim(item.substr(0, eq));
       // A constant's value may use the constants defined before it.
       const Expression value(trim(item.substr(eq + 1)), "", result);
       if (name.empty() || !(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_'))
-        throw ExpressionError("constant name \"" + name + "\" must start with a letter");
-      result[name] = value.value(0.0);
+        throw ExpressionError("constant name \"" + base::printable_excerpt(name, 40) + "\" must start with a letter");
+      const double v = value.value(0.0);
+      if (!std::isfinite(v))
+        throw ExpressionError("constant \"" + base::printable_excerpt(name, 40) + "\" is not finite (" +
+                              base::printable_excerpt(value.text(), 40) + "); allowed: finite values");
+      result[name] = v;
     }
   return result;
 }

@@ -4,10 +4,21 @@
 // their derivatives need exact first to fourth derivatives of the curve. This parser accepts
 // the muParser syntax users already know (+ - * / ^, parentheses, sin cos tan exp log sqrt
 // sinh cosh tanh atan abs, the constant pi, and named user constants) and evaluates on jets.
+//
+// Limits (a scene may come from someone else, and a parser must not crash on it):
+//  - an expression holds at most max_expression_length = 10000 characters;
+//  - it nests at most max_expression_depth = 200 levels, where each parenthesis, function
+//    argument, sign ('-' or '+' before an operand) and exponent ('^') opens one level: the
+//    parser is recursive, and 100000 nested parentheses would exhaust the stack;
+//  - numbers and constants are finite, at most max_constants constants per definition list.
+// Evaluation does not recurse at all: the node list is in post-order (operands before the
+// operation), so one pass in index order evaluates any tree, e.g. the left-leaning tree of a
+// long sum, in constant stack depth.
 #pragma once
 
 #include <geometry/taylor.h>
 
+#include <cstddef>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -15,6 +26,10 @@
 
 namespace flextrack::geometry
 {
+constexpr std::size_t max_expression_length = 10000;
+constexpr int max_expression_depth = 200;
+constexpr std::size_t max_constants = 1000;
+
 /// Thrown for text that does not parse; what() says where and what was expected.
 class ExpressionError : public std::runtime_error
 {
@@ -46,7 +61,8 @@ private:
   };
 
   Jet evaluate(const Jet &x) const;
-  Jet evaluate_node(int index, const Jet &x) const;
+  /// Node @p n given the values of all nodes before it (its operands among them).
+  Jet evaluate_node(const Node &n, const Jet *values, const Jet &x) const;
 
   // Recursive-descent parser over `source`, position `pos`.
   int parse_sum();
@@ -55,7 +71,18 @@ private:
   int parse_power();
   int parse_primary();
   void skip_blanks();
-  [[noreturn]] void fail(const std::string &what) const;
+  /// One more nesting level for the lifetime of the guard; fails beyond max_expression_depth.
+  struct Level
+  {
+    explicit Level(Expression &e);
+    ~Level() { --expression.depth; }
+    Level(const Level &) = delete;
+    Level &operator=(const Level &) = delete;
+    Expression &expression;
+  };
+  /// ExpressionError "cannot parse expression "...": at character N: expected @p what".
+  [[noreturn]] void fail(const std::string &what) const { fail_because("expected " + what); }
+  [[noreturn]] void fail_because(const std::string &reason) const;
   int add(Node n) { nodes.push_back(std::move(n)); return static_cast<int>(nodes.size()) - 1; }
 
   std::string source, variable_name;
@@ -63,8 +90,10 @@ private:
   std::vector<Node> nodes;
   int root = -1;
   std::size_t pos = 0;
+  int depth = 0; ///< nesting level while parsing
 };
 
-/// Parse "a=1.5, b = 2" into a name -> value map (throws ExpressionError).
+/// Parse "a=1.5, b = 2" into a name -> value map (throws ExpressionError): at most
+/// max_constants constants, each finite.
 std::map<std::string, double> parse_constants(const std::string &text);
 } // namespace flextrack::geometry

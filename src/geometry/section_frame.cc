@@ -109,7 +109,8 @@ void SectionFrame::declare_parameters(dealii::ParameterHandler &prm)
                     "projected onto each section plane.");
   prm.declare_entry("Reference vector", "0, 0, 1", dealii::Patterns::List(dealii::Patterns::Double(), 3, 3, ","),
                     "Reference direction for the section's y axis [-] (rotation minimising: at s = 0; "
-                    "fixed vector: everywhere). Must not be parallel to the tangent.");
+                    "fixed vector: everywhere). Not zero, each component at most 1e6 in size; must not be "
+                    "parallel to the tangent.");
   prm.leave_subsection();
 }
 
@@ -118,9 +119,13 @@ SectionFrame SectionFrame::parse_parameters(dealii::ParameterHandler &prm, std::
 {
   prm.enter_subsection("Section frame");
   const std::string kind = prm.get("Kind");
-  const auto r = base::parse_vector3(prm.get("Reference vector"), where.section + "/Section frame/Reference vector", "-");
-  const Vec3 ref({r[0], r[1], r[2]});
+  const std::string entry = where.section + "/Section frame/Reference vector";
+  const auto r = base::parse_vector3(prm.get("Reference vector"), entry, "-");
   prm.leave_subsection();
+  for (const double c : r) checked_number(c, entry, {-1e6, 1e6, true, "-"});
+  const Vec3 ref({r[0], r[1], r[2]});
+  if (!(ref.norm() > 0))
+    throw InputError(entry, "the reference vector is zero; give a direction, e.g. '0, 0, 1'");
   const Kind k = kind == "frenet" ? Kind::frenet : kind == "fixed vector" ? Kind::fixed_vector : Kind::rotation_minimising;
   try
     {

@@ -1,9 +1,13 @@
+#include <base/input_error.h>
 #include <io/mode_shape_writer.h>
 
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/numerics/data_out.h>
 
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -12,8 +16,20 @@ namespace flextrack::io
 {
 using namespace dealii;
 
+namespace
+{
+/// Throws the InputError of OutputFolder's write errors for @p name if @p file failed.
+void check_written(const std::ofstream &file, const std::string &name)
+{
+  if (!file)
+    throw InputError("-o / Output/Directory", "cannot write '" + name + "': " +
+                                                (errno ? std::strerror(errno) : "write error") +
+                                                " (is the disk full or the folder read-only?)");
+}
+} // namespace
+
 template <int dim>
-std::string write_mode_shapes(const std::string &directory, const DoFHandler<dim, 3> &dofs,
+std::string write_mode_shapes(OutputFolder &folder, const DoFHandler<dim, 3> &dofs,
                               const Mapping<dim, 3> &mapping, const std::vector<Vector<double>> &shapes,
                               const unsigned int subdivisions)
 {
@@ -36,28 +52,55 @@ std::string write_mode_shapes(const std::string &directory, const DoFHandler<dim
           // Arms are computed on one process: one .vtu per mode.
           std::ostringstream name;
           name << "mode_shapes_" << std::setw(3) << std::setfill('0') << k + 1 << ".vtu";
-          std::ofstream file(directory + "/" + name.str());
+          errno = 0;
+          std::ofstream file(folder.add_file(name.str()));
           out.write_vtu(file);
+          file.close();
+          check_written(file, folder.path() + "/" + name.str());
           series.emplace_back(static_cast<double>(k + 1), name.str());
         }
       else
-        // Solids may be distributed: every process writes the piece of its cells, and a .pvtu
-        // per mode (mode_shapes_NNN.pvtu) collects them. Collective call.
-        series.emplace_back(static_cast<double>(k + 1),
-                            out.write_vtu_with_pvtu_record(directory + "/", "mode_shapes", k + 1,
-                                                           dofs.get_triangulation().get_communicator(), 3));
+        {
+          // Solids may be distributed: every process writes the piece of its cells, and a .pvtu
+          // per mode (mode_shapes_NNN.pvtu) collects them. Collective call.
+          folder.create();
+          try
+            {
+              series.emplace_back(static_cast<double>(k + 1),
+                                  out.write_vtu_with_pvtu_record(folder.path() + "/", "mode_shapes", k + 1,
+                                                                 dofs.get_triangulation().get_communicator(), 3));
+            }
+          catch (const ExceptionBase &)
+            {
+              remove_mode_shapes(folder.path());
+              throw InputError("-o / Output/Directory", "cannot write the mode shapes of mode " + std::to_string(k + 1) +
+                                                          " into '" + folder.path() +
+                                                          "' (is the disk full or the folder read-only?)");
+            }
+        }
     }
-  const std::string pvd = directory + "/mode_shapes.pvd";
+  const std::string pvd = folder.path() + "/mode_shapes.pvd";
   if (Utilities::MPI::this_mpi_process(dofs.get_triangulation().get_communicator()) == 0)
     {
-      std::ofstream file(pvd);
+      errno = 0;
+      std::ofstream file(folder.add_file("mode_shapes.pvd"));
       DataOutBase::write_pvd_record(file, series);
+      file.close();
+      check_written(file, pvd);
     }
   return pvd;
 }
 
-template std::string write_mode_shapes<1>(const std::string &, const DoFHandler<1, 3> &, const Mapping<1, 3> &,
+void remove_mode_shapes(const std::string &folder)
+{
+  if (!is_first_process()) return;
+  std::error_code ec;
+  for (const auto &entry : std::filesystem::directory_iterator(folder, ec))
+    if (entry.path().filename().string().rfind("mode_shapes", 0) == 0) std::filesystem::remove(entry.path(), ec);
+}
+
+template std::string write_mode_shapes<1>(OutputFolder &, const DoFHandler<1, 3> &, const Mapping<1, 3> &,
                                           const std::vector<Vector<double>> &, unsigned int);
-template std::string write_mode_shapes<3>(const std::string &, const DoFHandler<3, 3> &, const Mapping<3, 3> &,
+template std::string write_mode_shapes<3>(OutputFolder &, const DoFHandler<3, 3> &, const Mapping<3, 3> &,
                                           const std::vector<Vector<double>> &, unsigned int);
 } // namespace flextrack::io

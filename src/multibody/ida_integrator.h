@@ -11,7 +11,7 @@
 #pragma once
 
 #include <multibody/system.h>
-#include <reduction/modal_solver.h> // reduction::SolverError
+#include <base/solver_error.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/vector.h>
@@ -23,9 +23,8 @@
 
 namespace flextrack::multibody
 {
-/// A failure of the time integration; what() gives the time, the worst component by name and
-/// what to change.
-using SolverError = reduction::SolverError;
+// A failure of the time integration throws flextrack::SolverError (base/solver_error.h); what()
+// gives the time, the worst component by name and what to change.
 
 struct IntegratorSettings
 {

@@ -31,43 +31,58 @@ void ReductionSettings::declare_parameters(ParameterHandler &prm)
     }
   prm.declare_entry("Method", reduction_methods()[0].name, Patterns::Selection(names), documentation + ".");
   prm.declare_entry("Number of normal modes", "20", Patterns::Integer(0),
-                    "Normal modes in the basis [-] (rigid-body modes of a free body not counted).");
+                    "Normal modes in the basis [-], 0 to 10000 (rigid-body modes of a free body not counted).");
   prm.declare_entry("Track arms", "", Patterns::Anything(),
                     "Arms that carry a sliding contact, separated by commas: each gets track load modes.");
   prm.declare_entry("Track stations", "8", Patterns::Integer(1),
-                    "Load stations per track arm [-]: unit forces along x, y and z at s_k = k L / n, k = 1..n.");
+                    "Load stations per track arm [-], 1 to 1000: unit forces along x, y and z at s_k = k L / n, "
+                    "k = 1..n (3 static solves and 3 basis vectors per station).");
   prm.declare_entry("Check modes", "0", Patterns::Integer(0),
                     "After reducing, also solve the full FE model for this many lowest frequencies and report "
-                    "the largest relative difference and both run times [-]; 0 = no check.");
+                    "the largest relative difference and both run times [-], 0 to 10000; 0 = no check.");
   prm.declare_entry("Geometric stiffness", "false", Patterns::Bool(),
                     "Also compute the geometric stiffness of inertial loads (12 unit cases: centrifugal, "
                     "frame acceleration, angular acceleration), so that fast rotating arms stiffen: the axial "
                     "force of each case's static solution times the arms' slope terms, projected on the modes.");
   prm.declare_entry("Damping ratio", "0", Patterns::Double(0),
-                    "Modal damping ratio zeta of every reduced mode [-]: C = diag(2 zeta w_i).");
+                    "Modal damping ratio zeta of every reduced mode [-], 0 to 1 (1 = critical damping): "
+                    "C = diag(2 zeta w_i).");
   prm.declare_entry("Rayleigh mass coefficient", "0", Patterns::Double(0),
-                    "Rayleigh damping alpha [1/s], added to C as alpha M.");
+                    "Rayleigh damping alpha [1/s], 0 to 1e4, added to C as alpha M.");
   prm.declare_entry("Rayleigh stiffness coefficient", "0", Patterns::Double(0),
-                    "Rayleigh damping beta [s], added to C as beta K.");
+                    "Rayleigh damping beta [s], 0 to 1, added to C as beta K.");
   prm.leave_subsection();
 }
 
 ReductionSettings ReductionSettings::parse_parameters(ParameterHandler &prm)
 {
+  // Counts are bounded before anything is allocated for them: every track station costs three
+  // static solves and three basis vectors of the body's size. The damping ranges are
+  // judgements: beyond them a value is a unit mistake (zeta = 1 is critical damping; alpha =
+  // 1e4 1/s or beta = 1 s damp every mode of an ordinary structure far beyond critical).
   ReductionSettings s;
   s.modal = ModalSettings::parse_parameters(prm);
+  const std::string path = "Reduction/";
   prm.enter_subsection("Reduction");
   const std::string method = prm.get("Method");
   for (const auto &row : reduction_methods())
     if (row.name == method) s.method = row.method;
-  s.n_normal_modes = prm.get_integer("Number of normal modes");
+  auto count = [&](const std::string &name, const long lower, const long upper, const std::string &why) {
+    const long n = prm.get_integer(name);
+    if (n < lower || n > upper)
+      throw InputError(path + name, std::to_string(n) + " " + why + "; allowed: " + std::to_string(lower) + " to " +
+                                      std::to_string(upper));
+    return static_cast<unsigned int>(n);
+  };
+  s.n_normal_modes = count("Number of normal modes", 0, 10000, "normal modes");
   s.track_arms = base::words(prm.get("Track arms"));
-  s.n_stations = prm.get_integer("Track stations");
-  s.n_check_modes = prm.get_integer("Check modes");
+  s.n_stations = count("Track stations", 1, 1000,
+                       "stations per track arm (three static solves and three basis vectors of the body's size each)");
+  s.n_check_modes = count("Check modes", 0, 10000, "check modes");
   s.geometric_stiffness = prm.get_bool("Geometric stiffness");
-  s.damping_ratio = prm.get_double("Damping ratio");
-  s.rayleigh_mass = prm.get_double("Rayleigh mass coefficient");
-  s.rayleigh_stiffness = prm.get_double("Rayleigh stiffness coefficient");
+  s.damping_ratio = geometry::get_number(prm, "Damping ratio", path, {0, 1, true, "-"});
+  s.rayleigh_mass = geometry::get_number(prm, "Rayleigh mass coefficient", path, {0, 1e4, true, "1/s"});
+  s.rayleigh_stiffness = geometry::get_number(prm, "Rayleigh stiffness coefficient", path, {0, 1, true, "s"});
   prm.leave_subsection();
   return s;
 }

@@ -1,4 +1,5 @@
 #include <base/input_error.h>
+#include <base/text.h>
 #include <reduction/modal_solver.h>
 #include <reduction/sparse_factorization.h>
 
@@ -21,13 +22,13 @@ void ModalSettings::declare_parameters(ParameterHandler &prm)
 {
   prm.enter_subsection("Modal analysis");
   prm.declare_entry("Number of modes", "10", Patterns::Integer(1),
-                    "How many of the lowest natural modes to compute [-], >= 1 (rigid-body modes count).");
+                    "How many of the lowest natural modes to compute [-], 1 to 10000 (rigid-body modes count).");
   prm.declare_entry("Shift", "auto", Patterns::Anything(),
-                    "Spectral shift sigma [rad^2/s^2]: the modes nearest sigma are found. 'auto' = minus the "
+                    "Spectral shift sigma [rad^2/s^2], -1e16 to 1e16: the modes nearest sigma are found. 'auto' = minus the "
                     "square of an estimate of the first bending frequency, which yields the lowest modes "
                     "and keeps free structures factorisable.");
-  prm.declare_entry("Tolerance", "1e-12", Patterns::Double(0), "Relative accuracy of the eigenvalues [-].");
-  prm.declare_entry("Maximum iterations", "1000", Patterns::Integer(1), "Maximum Lanczos restarts [-].");
+  prm.declare_entry("Tolerance", "1e-12", Patterns::Double(0), "Relative accuracy of the eigenvalues [-], > 0 and < 1.");
+  prm.declare_entry("Maximum iterations", "1000", Patterns::Integer(1), "Maximum Lanczos restarts [-], 1 to 1000000.");
   prm.declare_entry("Direct solver", "auto", Patterns::Selection("auto|cholmod|mumps|klu"),
                     "Sparse direct solver that factorises K - sigma M: 'cholmod' (supernodal Cholesky, "
                     "SuiteSparse; falls back to 'mumps' when K - sigma M is not positive definite), 'mumps' "
@@ -39,15 +40,25 @@ ModalSettings ModalSettings::parse_parameters(ParameterHandler &prm)
 {
   ModalSettings s;
   prm.enter_subsection("Modal analysis");
+  // Bounds: 10000 modes is far beyond any reduction basis; a shift beyond 1e16 rad^2/s^2
+  // (16 MHz) or a tolerance of 1 or more is a unit mistake, and ARPACK would fail on it later
+  // with a message that names no entry.
   s.n_modes = prm.get_integer("Number of modes");
+  if (s.n_modes > 10000)
+    throw InputError("Modal analysis/Number of modes", std::to_string(s.n_modes) + " modes; allowed: 1 to 10000");
   const std::string shift = prm.get("Shift");
   if (shift != "auto")
     {
-      try { s.shift = std::stod(shift); }
-      catch (...) { throw InputError("Modal analysis/Shift", "'" + shift + "' is neither 'auto' nor a number [rad^2/s^2]"); }
+      s.shift = base::parse_number(shift, "Modal analysis/Shift", "'auto' or a number [rad^2/s^2]");
+      if (std::abs(s.shift) > 1e16)
+        throw InputError("Modal analysis/Shift", shift + " rad^2/s^2; allowed: 'auto' or a number from -1e16 to 1e16");
     }
   s.tolerance = prm.get_double("Tolerance");
+  if (!(s.tolerance > 0 && s.tolerance < 1))
+    throw InputError("Modal analysis/Tolerance", prm.get("Tolerance") + "; allowed: > 0 and < 1");
   s.max_iterations = prm.get_integer("Maximum iterations");
+  if (s.max_iterations > 1000000)
+    throw InputError("Modal analysis/Maximum iterations", prm.get("Maximum iterations") + "; allowed: 1 to 1000000");
   s.direct_solver = prm.get("Direct solver");
   prm.leave_subsection();
   return s;
@@ -212,10 +223,12 @@ Modes lowest_modes(const fem::CurvedBeamModel &model, const ModalSettings &setti
 
 double automatic_shift(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M)
 {
+  // Each process reads the diagonal of its locally owned rows only (a distributed matrix stores
+  // no other), and the maximum over all processes makes the shift the same on every one.
   double largest = 0;
-  for (unsigned int i = 0; i < K.m(); ++i)
+  for (const auto i : K.locally_owned_range_indices())
     if (M.diag_element(i) > 0) largest = std::max(largest, K.diag_element(i) / M.diag_element(i));
-  return -1e-6 * largest;
+  return -1e-6 * Utilities::MPI::max(largest, K.get_mpi_communicator());
 }
 
 Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,

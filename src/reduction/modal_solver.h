@@ -1,9 +1,12 @@
 // Lowest natural modes of K phi = w^2 M phi by shift-invert Lanczos: ARPACK's implicitly
 // restarted Lanczos (dsaupd, mode 3) on (K - sigma M)^{-1} M, with K - sigma M factorised
-// once by a sparse direct solver (Trilinos Amesos, KLU). The default shift is negative, so free
+// once by a sparse direct solver (SuiteSparse CHOLMOD by default; MUMPS under MPI, or where
+// K - sigma M is not positive definite; KLU on request). The default shift is negative, so free
 // structures (singular K) are factorised safely and their rigid-body modes come out as
 // near-zero frequencies.
 #pragma once
+
+#include <base/solver_error.h> // thrown when the eigen solver fails
 
 #include <fem/curved_beam_model.h>
 #include <fem/solid_model.h>
@@ -25,7 +28,7 @@ struct ModalSettings
   double shift = std::numeric_limits<double>::quiet_NaN();
   double tolerance = 1e-12; ///< ARPACK's relative accuracy of the Ritz values
   unsigned int max_iterations = 1000;
-  /// Sparse direct solver for K - sigma M: "auto" (KLU for arms, MUMPS for solids), "klu", "mumps".
+  /// Sparse direct solver for K - sigma M: "auto" (= "cholmod"), "cholmod", "mumps", "klu".
   std::string direct_solver = "auto";
 
   static void declare_parameters(dealii::ParameterHandler &prm);
@@ -42,13 +45,6 @@ struct Modes
   std::vector<dealii::Vector<double>> shapes; ///< mass-normalised: phi^T M phi = 1
   std::vector<double> frequencies_hz() const; ///< sign(w^2) sqrt(|w^2|) / (2 pi)
   unsigned int iterations = 0;                ///< Lanczos restarts used
-};
-
-/// The eigen solver failed (no convergence, factorisation failure); what() says what to change.
-class SolverError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
 };
 
 /// @p n_free: number of unconstrained dofs (at most that many finite modes exist);

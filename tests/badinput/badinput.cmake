@@ -10,3 +10,25 @@ set_tests_properties(badinput_hostile_reduced_body_files_are_refused PROPERTIES
   DEPENDS cli_exports_read_by_paraview_meshio_h5py)
 set_tests_properties(badinput_output_folder_cannot_run_shell_commands badinput_hostile_reduced_body_files_are_refused
   PROPERTIES LABELS badinput)
+
+# Hostile and careless scenes and command lines (issue 15, items 4-9): one test per case of
+# badinput/hostile_scenes.py (nesting, resource bombs, silent nonsense, messages, write errors,
+# reduce under mpirun). Each refused case must exit 2 within 5 s with one printable line naming
+# the file and the entry, and leave nothing in the output folder.
+set(FLEXTRACK_HOSTILE_SCENE_CASES
+  expression_100000_nested_parentheses expression_nested_4000_deep expression_sum_of_200000_terms
+  expression_100000_unary_minus expression_3000_unary_minus expression_power_tower_50000
+  expression_power_tower_300 expression_sum_of_3000_terms_is_read scene_includes_itself json_nested_100000_deep
+  arm_2147483647_elements box_2147483647_cells spline_of_200000_points converge_12_refinements_of_a_box
+  converge_12_refinements_of_an_arm helix_of_1e9_turns tan_across_its_pole shift_nan shift_1e300
+  line_end_at_1e308 scene_is_binary scene_is_utf16 value_of_50_mb value_of_1_mb scene_is_a_directory
+  scene_is_dev_zero frequencies_csv_links_to_dev_full write_error_file_size_limit stale_mode_shapes_removed
+  mpirun_reduce)
+find_program(MPIRUN mpirun)
+foreach(case ${FLEXTRACK_HOSTILE_SCENE_CASES})
+  add_test(NAME badinput_scene_${case}
+    COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/badinput/hostile_scenes.py $<TARGET_FILE:flextrack>
+            ${CMAKE_CURRENT_BINARY_DIR}/badinput/hostile_scenes ${case} ${MPIRUN})
+  set_tests_properties(badinput_scene_${case} PROPERTIES LABELS badinput TIMEOUT 120)
+endforeach()
+set_tests_properties(badinput_scene_mpirun_reduce PROPERTIES PROCESSORS 2)

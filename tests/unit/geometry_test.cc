@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 
 using namespace flextrack::geometry;
@@ -65,6 +66,129 @@ TEST(Expression, errors_name_position_and_expectation)
   EXPECT_THROW(Expression("a * t", "t"), ExpressionError); // a not declared
   EXPECT_NO_THROW(Expression("a * t", "t", parse_constants("a = 2, b = a^2")));
   EXPECT_EQ(parse_constants("a = 2, b = a^2").at("b"), 4.0);
+}
+
+namespace
+{
+std::string repeated(const std::string &piece, const int n)
+{
+  std::string s;
+  for (int i = 0; i < n; ++i) s += piece;
+  return s;
+}
+
+// The ExpressionError of @p text, or "" if it parses.
+std::string expression_error(const std::string &text)
+{
+  try
+    {
+      Expression(text, "t");
+    }
+  catch (const ExpressionError &e)
+    {
+      return e.what();
+    }
+  return "";
+}
+} // namespace
+
+TEST(Expression, nesting_up_to_the_limit_parses_and_beyond_is_refused_without_a_crash)
+{
+  // Issue 15, item 4: 100000 nested parentheses crashed the recursive parser (SIGSEGV).
+  // At most max_expression_depth = 200 levels: parentheses, function arguments, signs, exponents.
+  const int n = max_expression_depth;
+  EXPECT_EQ(Expression(repeated("(", n) + "t" + repeated(")", n), "t").value(0.25), 0.25);
+  EXPECT_EQ(Expression(repeated("-", n) + "t", "t").value(0.25), 0.25); // an even number of signs
+  EXPECT_EQ(Expression(repeated("sin(", n - 1) + "t" + repeated(")", n - 1), "t").jet(0.0).derivative(1), 1.0);
+  for (const std::string &deep : {repeated("(", n + 1) + "t" + repeated(")", n + 1), repeated("-", n + 1) + "t",
+                                  repeated("t^", n + 1) + "t", repeated("abs(", n + 1) + "t" + repeated(")", n + 1)})
+    {
+      const std::string error = expression_error(deep);
+      EXPECT_NE(error.find("nested deeper than 200 levels"), std::string::npos) << error;
+      EXPECT_LT(error.size(), 400u) << "the message quotes an excerpt, not the whole text";
+    }
+  // The hostile inputs of the issue are refused by length (at most 10000 characters), quickly.
+  for (const std::string &huge : {repeated("(", 100000) + "t" + repeated(")", 100000), repeated("-", 100000) + "t",
+                                  repeated("t+", 199999) + "t", repeated("t^", 49999) + "t"})
+    {
+      const std::string error = expression_error(huge);
+      EXPECT_NE(error.find("at most 10000 are allowed"), std::string::npos) << error.substr(0, 200);
+      EXPECT_LT(error.size(), 400u);
+    }
+}
+
+TEST(Expression, long_flat_sum_evaluates_without_recursion)
+{
+  // A sum of 4999 terms (9997 characters, within the limit) is a left-leaning tree 4999 nodes
+  // deep; evaluation runs over the post-ordered node list, not recursively. Exact: every term
+  // is t, and the sum of k equal binary doubles (k < 2^53 / t) is exact for t = 0.5.
+  const Expression sum(repeated("t+", 4998) + "t", "t");
+  EXPECT_EQ(sum.value(0.5), 4999 * 0.5);
+  const Jet j = sum.jet(0.5);
+  EXPECT_EQ(j.derivative(1), 4999.0);
+  EXPECT_EQ(j.derivative(2), 0.0);
+}
+
+TEST(Expression, non_finite_numbers_and_constants_are_refused)
+{
+  EXPECT_NE(expression_error("1e400 * t").find("a finite number"), std::string::npos);
+  EXPECT_THROW(parse_constants("a = 1e200, b = a * a"), ExpressionError); // b overflows to inf
+  EXPECT_THROW(parse_constants("a = log(0)"), ExpressionError);           // -inf
+  std::string many;
+  for (std::size_t i = 0; i <= max_constants; ++i) many += "c" + std::to_string(i) + " = 1, ";
+  EXPECT_THROW(parse_constants(many), ExpressionError);
+}
+
+TEST(Curve, pole_inside_the_parameter_range_is_refused_by_name)
+{
+  // Issue 15, item 6: y(t) = tan(t) over [0, 3] crosses its pole at pi/2, between the sample
+  // points of the finiteness check; the arc length came out as 1.17e13 m and was accepted.
+  try
+    {
+      curve_from("set Kind = parametric\nsubsection Parametric\n set x(t) = t\n set y(t) = tan(t)\n"
+                 " set Parameter end = 3\nend\n");
+      FAIL() << "a curve across a pole was accepted";
+    }
+  catch (const flextrack::InputError &e)
+    {
+      EXPECT_EQ(e.entry(), "Curve/Parametric");
+      EXPECT_NE(e.message().find("allowed: at most 1e+06 m"), std::string::npos) << e.what();
+    }
+  // An absurd helix (1e9 turns) is refused on its entry.
+  try
+    {
+      curve_from("set Kind = helix\nsubsection Helix\n set Turns = 1e9\nend\n");
+      FAIL() << "1e9 turns accepted";
+    }
+  catch (const flextrack::InputError &e)
+    {
+      EXPECT_EQ(e.entry(), "Curve/Helix/Turns");
+    }
+}
+
+TEST(Curve, spline_through_scattered_points_is_built_in_linear_time)
+{
+  // Issue 15, item 5: the arc-length table of a spline through scattered points demanded 1e-15
+  // relative accuracy from panels whose Gauss nodes carry a rounding error of eps |p| (knots reach
+  // p ~ 1e3): 2000 points took 80 s and 750 MiB. With the rounding floor in the tolerance:
+  // ~8 table entries per segment. (A pseudo-random walk, deterministic.)
+  std::vector<dealii::Point<3>> pts;
+  unsigned long state = 12345;
+  auto next = [&state] {
+    state = state * 6364136223846793005ul + 1442695040888963407ul;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  for (int i = 0; i < 2000; ++i) pts.emplace_back(next(), next(), next());
+  const auto start = std::chrono::steady_clock::now();
+  const auto curve = make_spline_curve(pts);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_TRUE(std::isfinite(curve->length()));
+  EXPECT_GT(curve->length(), 1000.0); // 1999 chords of mean length ~0.66
+  EXPECT_LT(seconds, 10.0) << "took " << seconds << " s (0.1 s expected)";
+  // The chord-length parametrisation is recovered: the arc length at the last knot is the
+  // curve's length, and parameter_at inverts arc_length_at.
+  const double s = 0.37 * curve->length();
+  expect_close(curve->arc_length_at(curve->parameter_at(s)), s, 1e-9, "s(p(s))");
 }
 
 TEST(Curve, helix_from_expressions_matches_closed_forms)

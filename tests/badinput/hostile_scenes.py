@@ -1,0 +1,281 @@
+#!/usr/bin/python3
+"""Hostile and careless scenes and command lines (issue 15, items 4, 5, 6, 7, 8 and 9). Each case
+writes the scene files it needs into its own work folder, runs one flextrack command there and
+checks the outcome the issue asks for:
+
+- refused input: exit status 2, one printable line of at most 400 characters on stderr that names
+  the file and the entry (where there is one) and says what is wrong (a regular expression per
+  case), nothing in the output folder, within 5 s (a resource bomb must be refused before it
+  allocates, not after);
+- accepted input: exit status 0 and the files the case names.
+
+The inputs are those the issue reports (nesting that overflowed the stack, counts that ended in
+std::bad_alloc or ran until killed, values that reached the eigen solver, write errors).
+
+usage: hostile_scenes.py FLEXTRACK WORK_DIR CASE [MPIRUN]
+"""
+import os
+import re
+import resource
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+# A straight steel cantilever (the arm scene of tests/input/straight_cantilever.prm).
+ARM = """subsection Arm
+  subsection Curve
+    set Kind = {kind}
+{curve}
+  end
+  subsection Cross section
+    set Shape = circle
+    set Diameter = 0.01
+  end
+  subsection Mesh
+    set Number of elements = {elements}
+    set Element degree = 2
+  end
+end
+subsection Modal analysis
+  set Number of modes = {modes}
+{modal}
+end
+"""
+
+
+def arm(kind="line", curve="    subsection Line\n      set End point = 3, 0, 0\n    end", elements="4", modes="4",
+        modal=""):
+    return ARM.format(kind=kind, curve=curve, elements=elements, modes=modes, modal=modal)
+
+
+def parametric(x, y="0", z="0", start="0", end="1"):
+    return arm("parametric", f"""    subsection Parametric
+      set x(t) = {x}
+      set y(t) = {y}
+      set z(t) = {z}
+      set Parameter start = {start}
+      set Parameter end = {end}
+    end""")
+
+
+def box(cells="4, 1, 1"):
+    return f"""set Model = solid
+subsection Solid
+  set Mesh = box
+  subsection Box
+    set Size  = 1, 0.1, 0.1
+    set Cells = {cells}
+  end
+  set Supports = XMIN: x, y, z
+end
+subsection Modal analysis
+  set Number of modes = 3
+end
+"""
+
+
+def nested_json(depth):
+    return '{"a": ' * depth + "1" + "}" * depth
+
+
+def spline_points(n):
+    return "".join(f"{i * 1e-3:.6f} {1e-4 * (i % 7):.6f} 0\n" for i in range(n))
+
+
+SPLINE = arm("spline", "    subsection Spline\n      set Points file = points.txt\n    end")
+
+# name -> dict(files={name: text or bytes or callable}, args=[command, scene, ...], status, regex,
+# entry (text the message must hold besides the file name), outputs (files of an accepted run))
+CASES = {
+    # Item 4: nesting that overflowed the stack (SIGSEGV before).
+    "expression_100000_nested_parentheses": dict(
+        files={"s.prm": parametric("(" * 100000 + "t" + ")" * 100000)}, args=["modes", "s.prm"],
+        regex=r"x\(t\).*has 200001 characters; at most 10000 are allowed"),
+    "expression_nested_4000_deep": dict(
+        files={"s.prm": parametric("(" * 4000 + "t" + ")" * 4000)}, args=["modes", "s.prm"],
+        regex=r"x\(t\).*nested deeper than 200 levels"),
+    "expression_sum_of_200000_terms": dict(
+        files={"s.prm": parametric("t" + "+t" * 200000)}, args=["modes", "s.prm"],
+        regex=r"x\(t\).*characters; at most 10000 are allowed"),
+    "expression_100000_unary_minus": dict(
+        files={"s.prm": parametric("-" * 100000 + "t")}, args=["modes", "s.prm"],
+        regex=r"x\(t\).*characters; at most 10000"),
+    "expression_3000_unary_minus": dict(
+        files={"s.prm": parametric("-" * 3000 + "t")}, args=["modes", "s.prm"],
+        regex=r"x\(t\).*nested deeper than 200 levels"),
+    "expression_power_tower_50000": dict(
+        files={"s.prm": parametric("t" + "^t" * 50000)}, args=["modes", "s.prm"],
+        regex=r"x\(t\).*characters; at most 10000"),
+    "expression_power_tower_300": dict(
+        files={"s.prm": parametric("t" + "^1" * 300)}, args=["modes", "s.prm"],
+        regex=r"x\(t\).*nested deeper than 200 levels"),
+    # A long but flat sum is fine: evaluation does not recurse ((t + ... + t) / 3000 = t, 3000 terms).
+    "expression_sum_of_3000_terms_is_read": dict(
+        files={"s.prm": parametric("(t" + "+t" * 2999 + ")/3000")}, args=["modes", "s.prm"],
+        status=0, outputs=["frequencies.csv", "summary.json"]),
+    "scene_includes_itself": dict(
+        files={"s.prm": "include s.prm\n" + arm()}, args=["modes", "s.prm"],
+        regex=r"includes are nested more than 8 deep", entry="include"),
+    "json_nested_100000_deep": dict(
+        files={"s.json": nested_json(100000)}, args=["modes", "s.json"], regex=r"JSON nested more than 64 deep",
+        entry=""),
+    # Item 5: resource bombs (std::bad_alloc, "internal error", or killed before).
+    "arm_2147483647_elements": dict(
+        files={"s.prm": arm(elements="2147483647")}, args=["modes", "s.prm"], regex=r"Number of elements"),
+    "box_2147483647_cells": dict(
+        files={"s.prm": box("2147483647, 1, 1")}, args=["modes", "s.prm"], regex=r"Box/Cells"),
+    "spline_of_200000_points": dict(
+        files={"s.prm": SPLINE, "points.txt": spline_points(200000)}, args=["modes", "s.prm"],
+        regex=r"Points file.*more than 100000 points; at most 100000"),
+    "converge_12_refinements_of_a_box": dict(
+        files={"s.prm": box()}, args=["converge", "s.prm", "--refinements", "12"],
+        regex=r"Solid/Mesh after 12 refinements.*allowed: at most 1000000 cells", entry="Solid/Mesh"),
+    "converge_12_refinements_of_an_arm": dict(
+        files={"s.prm": arm(elements="100")}, args=["converge", "s.prm", "--refinements", "12"],
+        regex=r"Number of elements.*refinement"),
+    # Item 6: silent nonsense (exit 0 with absurd results before).
+    "helix_of_1e9_turns": dict(
+        files={"s.prm": arm("helix", "    subsection Helix\n      set Turns = 1e9\n    end")},
+        args=["modes", "s.prm"], regex=r"Turns"),
+    "tan_across_its_pole": dict(
+        files={"s.prm": parametric("t", "tan(t)", start="0", end="2")}, args=["modes", "s.prm"],
+        regex=r"Curve"),
+    "shift_nan": dict(files={"s.prm": arm(modal="  set Shift = nan")}, args=["modes", "s.prm"],
+                      regex=r"Modal analysis/Shift.*not a finite number"),
+    # Item 9: reached ARPACK before ("dsaupd failed with code -9999", exit 3, no entry named).
+    "shift_1e300": dict(files={"s.prm": arm(modal="  set Shift = 1e300")}, args=["modes", "s.prm"],
+                        regex=r"Modal analysis/Shift.*allowed: 'auto' or a number from -1e16 to 1e16"),
+    "line_end_at_1e308": dict(
+        files={"s.prm": arm(curve="    subsection Line\n      set End point = 1e308, 0, 0\n    end")},
+        args=["modes", "s.prm"], regex=r"End point"),
+    # Raw bytes echoed whole before; a directory or a device said "not to exist".
+    "scene_is_binary": dict(files={"s.prm": bytes(range(256)) * 64}, args=["modes", "s.prm"], regex=r".", entry=""),
+    "scene_is_utf16": dict(files={"s.prm": "\ufeff".encode("utf-16-le") + arm().encode("utf-16-le")},
+                           args=["modes", "s.prm"], regex=r".", entry=""),
+    "value_of_50_mb": dict(files={"s.prm": lambda: arm(modes="1" + "2" * 50_000_000)}, args=["modes", "s.prm"],
+                           regex=r"larger than 16 MiB", entry=""),
+    "value_of_1_mb": dict(files={"s.prm": lambda: arm(modes="1" + "2" * 1_000_000)}, args=["modes", "s.prm"],
+                          regex=r"Number of modes", entry="Number of modes"),
+    "scene_is_a_directory": dict(files={"s.prm": "<directory>"}, args=["modes", "s.prm"], regex=r"is a folder, not a parameter file",
+                                 entry=""),
+    "scene_is_dev_zero": dict(files={}, args=["modes", "/dev/zero"], regex=r"is not a regular file", entry=""),
+    # Item 7: write errors. The output files are staged and renamed, so a link to /dev/full in the
+    # folder is replaced, not written through; a file-size limit (EFBIG, like a full disk) must be
+    # reported as a write error with nothing half-written left behind.
+    "frequencies_csv_links_to_dev_full": dict(
+        files={"s.prm": arm(), "out/frequencies.csv": "<link to /dev/full>"}, args=["modes", "s.prm", "-o", "out"],
+        status=0, outputs=["frequencies.csv", "summary.json"]),
+    "write_error_file_size_limit": dict(
+        files={"s.prm": arm(modes="20", elements="40")}, args=["modes", "s.prm", "-o", "out"], fsize_limit=400,
+        status=(2, 3), regex=r"cannot write 'out/[a-z_.]+': (File too large|No space)", entry="Output/Directory",
+        names_file=False),
+    "stale_mode_shapes_removed": dict(
+        files={"s.prm": arm(modes="6"), "t.prm": arm(modes="2")}, args=["modes", "t.prm", "-o", "out"],
+        before=["modes", "s.prm", "-o", "out"], status=0, outputs=["frequencies.csv"], stale=["mode_5", "mode_6"]),
+    # Item 8: reduce under mpirun (internal error from every rank before).
+    "mpirun_reduce": dict(files={"s.prm": "<small body>"}, args=["reduce", "s.prm"], mpi=2,
+                          status=1, regex=r"reduce runs serially.*without mpirun", entry="", names_file=False),
+}
+
+
+def make_files(case, work, source):
+    for name, text in case.get("files", {}).items():
+        path = os.path.join(work, name)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        if callable(text):
+            text = text()
+        if text == "<directory>":
+            os.makedirs(path)
+        elif text == "<link to /dev/full>":
+            os.symlink("/dev/full", path)
+        elif text == "<small body>":
+            shutil.copy(os.path.join(source, "tests", "input", "small_body.prm"), path)
+        else:
+            with open(path, "wb") as f:
+                f.write(text if isinstance(text, bytes) else text.encode())
+
+
+def run(exe, work, args, case, mpirun):
+    # OpenMPI refuses to start as root (CI runs as root) unless told it may.
+    env = dict(os.environ, TMPDIR=work, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    command = [exe] + args
+    if case.get("mpi"):
+        command = [mpirun, "--oversubscribe", "-np", str(case["mpi"])] + command
+    limit = case.get("fsize_limit")
+
+    def preexec():
+        if limit:
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # write() fails with EFBIG instead of a signal
+            resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    start = time.monotonic()
+    try:
+        p = subprocess.run(command, cwd=work, env=env, capture_output=True, timeout=60, preexec_fn=preexec)
+        status, err = p.returncode, p.stderr.decode("utf-8", "replace")
+    except subprocess.TimeoutExpired:
+        status, err = None, ""
+    return status, err, time.monotonic() - start
+
+
+def main():
+    exe, work, name = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2]), sys.argv[3]
+    mpirun = sys.argv[4] if len(sys.argv) > 4 else "mpirun"
+    source = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    case = CASES[name]
+    work = os.path.join(work, name)
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    make_files(case, work, source)
+    problems = []
+    if "before" in case:
+        status, err, _ = run(exe, work, case["before"], {}, mpirun)
+        if status != 0:
+            problems.append(f"the first run ({' '.join(case['before'])}) failed: {status} {err[:300]}")
+    status, err, seconds = run(exe, work, case["args"], case, mpirun)
+    message = err.strip()
+    if case.get("mpi"):  # mpirun adds its own lines about the exit status; only flextrack's count
+        message = "\n".join(l for l in message.splitlines() if l.startswith("flextrack"))
+    print(f"{name}: exit status {status} after {seconds:.2f} s; stderr: {message[:400]}")
+    expected = case.get("status", 2)
+    expected = expected if isinstance(expected, tuple) else (expected,)
+    # The output folder: -o, else output/<scene file stem> (no sample scene sets Output/Directory).
+    out = os.path.join(work, "out") if "-o" in case["args"] else os.path.join(
+        work, "output", os.path.splitext(os.path.basename(case["args"][1]))[0])
+    if status is None:
+        problems.append("did not finish within 60 s")
+    elif status not in expected:
+        problems.append(f"exit status {status}, expected {' or '.join(map(str, expected))}")
+    if status == 0:
+        for f in case.get("outputs", []):
+            if not os.path.isfile(os.path.join(out, f)) or os.path.getsize(os.path.join(out, f)) == 0:
+                problems.append(f"no output file {f}")
+        for prefix in case.get("stale", []):
+            left = [f for f in os.listdir(out) if f.startswith(prefix)]
+            if left:
+                problems.append("files of the previous run left in the output folder: " + ", ".join(left))
+    else:
+        if seconds > 5:
+            problems.append(f"took {seconds:.1f} s, more than 5 s")
+        if len(message.splitlines()) != 1:
+            problems.append(f"{len(message.splitlines())} message lines, expected 1")
+        if len(message) > 400 or any(not (32 <= ord(c) < 127) for c in message):
+            problems.append("the message is longer than 400 characters or not printable ASCII")
+        scene = case["args"][1]
+        entry = case.get("entry")
+        if entry is None:
+            entry = re.sub(r"\\.*", "", case.get("regex", "").split(".*")[0])
+        if (case.get("names_file", True) and os.path.basename(scene) not in message) or entry not in message:
+            problems.append(f"the message does not name the file '{os.path.basename(scene)}' and the entry '{entry}'")
+        if not re.search(case.get("regex", "^$"), message):
+            problems.append(f"the message does not say /{case['regex']}/")
+        if os.path.isdir(out) and [f for f in os.listdir(out) if not os.path.islink(os.path.join(out, f))]:
+            problems.append("files were left in the output folder: " + ", ".join(sorted(os.listdir(out)))[:200])
+    for p in problems:
+        print("FAIL: " + p)
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
