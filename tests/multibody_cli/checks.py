@@ -206,5 +206,15 @@ def solver_failure(exe, scene, out):
     check(os.path.exists(os.path.join(out, "results.h5")), "results.h5 holds the rows before the failure")
 
 
+def json_like_prm(exe, scene, out):
+    # tests/multibody_input/pendulum_1s.json is tests/multibody_input/pendulum_1s.prm written as
+    # JSON: the same scene, so the same numbers, to the last digit of the CSV.
+    fresh_run(exe, scene, out + "_json")
+    fresh_run(exe, scene.replace(".json", ".prm"), out + "_prm")
+    with open(os.path.join(out + "_json", "probes.csv")) as a, open(os.path.join(out + "_prm", "probes.csv")) as b:
+        rows_json, rows_prm = a.read(), b.read()
+    check(rows_json == rows_prm and rows_json.count("\n") == 102, "probes.csv of the .json scene equals that of the .prm scene (101 rows)")
+
+
 if __name__ == "__main__":
     globals()[sys.argv[1]](*sys.argv[2:5])
