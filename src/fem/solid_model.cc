@@ -10,7 +10,9 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 
+#include <map>
 #include <set>
+#include <sstream>
 
 namespace flextrack::fem
 {
@@ -214,6 +216,50 @@ void SolidModel::apply_supports()
         }
     }
   supports.close();
+  if (constrained_assembly && !body.supports.empty()) refuse_unsupported_parts();
+}
+
+void SolidModel::refuse_unsupported_parts() const
+{
+  // Parts of the mesh that share no vertex: union-find over the vertices of every cell.
+  std::vector<unsigned int> parent(tria.n_vertices());
+  for (unsigned int v = 0; v < parent.size(); ++v) parent[v] = v;
+  auto root = [&](unsigned int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const auto &cell : tria.active_cell_iterators())
+    for (const auto v : cell->vertex_indices()) parent[root(cell->vertex_index(v))] = root(cell->vertex_index(0));
+
+  // Per part: its cells, a point of it, and whether any of its dofs is supported.
+  struct Part
+  {
+    unsigned int cells = 0;
+    Point<3> centre;
+    bool supported = false;
+  };
+  std::map<unsigned int, Part> parts;
+  std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      Part &part = parts[root(cell->vertex_index(0))];
+      ++part.cells;
+      part.centre += cell->center();
+      cell->get_dof_indices(local);
+      for (const auto i : local) part.supported |= supports.is_constrained(i);
+    }
+  if (parts.size() < 2) return;
+  for (const auto &[id, part] : parts)
+    if (!part.supported)
+      {
+        const Point<3> c = part.centre / part.cells;
+        std::ostringstream m;
+        m << "the mesh of " << body.mesh->source << " has " << parts.size() << " parts that share no node, and "
+          << "the part of " << part.cells << " cells around (" << c[0] << ", " << c[1] << ", " << c[2]
+          << ") m has no support: it would float freely (zero or negative frequencies); support every part, "
+             "join the parts, or remove the loose one";
+        throw InputError("Solid/Supports", m.str());
+      }
 }
 
 void SolidModel::assemble()

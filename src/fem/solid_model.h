@@ -54,6 +54,9 @@ private:
   void setup_geometry();
   void tabulate_node_dofs();
   void apply_supports();
+  /// A supported solid whose mesh falls into parts that share no node must support every part:
+  /// an unsupported part floats freely (InputError naming Solid/Supports).
+  void refuse_unsupported_parts() const;
   void assemble();
 
   const Solid &body;
