@@ -189,6 +189,8 @@ int run_command(const Options &options, const io::SceneFile &file)
     recorder.write_hdf5(out);
     if (animation) animation->finish(out);
     out.add_parameters(*scene.parameters);
+  }
+  {
     io::JsonObject drift;
     drift.add("position_residual", recorder.max_position_residual)
       .add("velocity_residual", recorder.max_velocity_residual)
