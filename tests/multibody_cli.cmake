@@ -63,3 +63,11 @@ flextrack_bad_input(run_joint_names_unknown_interface
   "unknown_interface.prm: entry 'Joint pivot/Interface 1': body 'boom' has no interface 'tipp'; allowed: tip"
   run ${MB_OUT}/unknown_interface.prm)
 set_tests_properties(cli_bad_input_run_joint_names_unknown_interface PROPERTIES DEPENDS cli_run_flexible_pendulum_balances_energy)
+
+# A flexible body from a reduced body file (.h5) runs like the same body from its body scene.
+file(WRITE ${MB_OUT}/flexible_from_h5.prm
+  "include ${CMAKE_SOURCE_DIR}/prm/flexible_pendulum.prm\nsubsection Body boom\n  set Body scene =\n"
+  "  set Reduced body file = ${MB_OUT}/output/curved_boom_body/reduced_body.h5\nend\n")
+flextrack_multibody_check(run_flexible_from_reduced_body_file_matches_body_scene same_as_flexible ${MB_OUT}/flexible_from_h5.prm)
+set_tests_properties(cli_run_flexible_from_reduced_body_file_matches_body_scene PROPERTIES
+  DEPENDS cli_run_flexible_pendulum_balances_energy TIMEOUT 600)

@@ -216,5 +216,14 @@ def json_like_prm(exe, scene, out):
     check(rows_json == rows_prm and rows_json.count("\n") == 102, "probes.csv of the .json scene equals that of the .prm scene (101 rows)")
 
 
+def same_as_flexible(exe, scene, out):
+    # The flexible pendulum with its body given as the reduced body file that the body-scene run
+    # left in the cache: the same reduced body, so the same probes to the last CSV digit.
+    fresh_run(exe, scene, out)
+    reference = os.path.join(os.path.dirname(out), "run_flexible_pendulum_balances_energy", "probes.csv")
+    with open(os.path.join(out, "probes.csv")) as a, open(reference) as b:
+        check(a.read() == b.read(), "probes.csv equals that of the body-scene run")
+
+
 if __name__ == "__main__":
     globals()[sys.argv[1]](*sys.argv[2:5])
