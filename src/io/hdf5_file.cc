@@ -1,5 +1,10 @@
 #include <io/hdf5_file.h>
 
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -35,8 +40,14 @@ Hdf5File::Hdf5File(const std::string &name, const Mode mode) : file_name(name)
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // errors are reported by exceptions
   if (mode == Mode::create)
     {
-      file = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-      if (file < 0) throw std::runtime_error("cannot create the HDF5 file (is the folder writable?)");
+      // The file is built in memory (HDF5's core driver, no backing store) and written to disk by
+      // close() with ordinary, checked writes: a full disk then never reaches HDF5, whose library
+      // keeps a file that failed to flush open and crashes on it at exit (HDF5 1.10).
+      Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+      if (fapl.id < 0 || H5Pset_fapl_core(fapl.id, 1 << 20, false) < 0)
+        throw std::runtime_error("cannot set up an HDF5 file in memory");
+      file = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id);
+      if (file < 0) throw std::runtime_error("cannot create the HDF5 file");
     }
   else
     {
@@ -49,6 +60,26 @@ Hdf5File::Hdf5File(const std::string &name, const Mode mode) : file_name(name)
 Hdf5File::~Hdf5File()
 {
   if (file >= 0) H5Fclose(file);
+}
+
+void Hdf5File::close()
+{
+  if (file < 0) return;
+  // The image of the in-memory file, then one checked write of it (see the constructor).
+  const bool flushed = H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0;
+  const ssize_t size = flushed ? H5Fget_file_image(file, nullptr, 0) : -1;
+  std::vector<char> image(size > 0 ? static_cast<std::size_t>(size) : 0);
+  const bool copied = size > 0 && H5Fget_file_image(file, image.data(), image.size()) == size;
+  H5Fclose(file);
+  file = -1;
+  if (!copied) throw std::runtime_error("HDF5 could not finish the file '" + file_name + "' in memory");
+  errno = 0;
+  std::ofstream out(file_name, std::ios::binary | std::ios::trunc);
+  out.write(image.data(), static_cast<std::streamsize>(image.size()));
+  out.close();
+  if (!out)
+    throw std::runtime_error("writing '" + file_name + "' failed: " + std::strerror(errno ? errno : EIO) +
+                             " (is the disk full?)");
 }
 
 void Hdf5File::create_group(const std::string &path)

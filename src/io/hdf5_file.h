@@ -17,9 +17,13 @@ class Hdf5File
 {
 public:
   enum class Mode { create, read };
-  /// create: a new file (an existing one is replaced); read: must be an HDF5 file.
+  /// create: a new file, built in memory and written (an existing one replaced) by close() only;
+  /// read: must be an HDF5 file.
   Hdf5File(const std::string &name, Mode mode);
   ~Hdf5File();
+  /// Writes a created file to disk and closes it; throws std::runtime_error if the data did not
+  /// reach the disk (a full disk). A created file destroyed without close() is not written.
+  void close();
   Hdf5File(const Hdf5File &) = delete;
   Hdf5File &operator=(const Hdf5File &) = delete;
 

@@ -128,6 +128,7 @@ void write_file(const ReducedBody &b, const std::string &name)
   f.write("/drawing/quads", {b.quads.size(), 8}, quads.data());
   f.write("/drawing/lines", {b.lines.size(), 2}, lines.data());
   f.write("/drawing/mode_displacements", {n, P_count, 3}, b.point_modes.data());
+  f.close();
 }
 
 /// Members of @p group in the order of their "index" attribute.

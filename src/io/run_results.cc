@@ -182,6 +182,7 @@ void RunRecorder::write_hdf5(OutputFolder &folder) const
           f.write(g + "/position", {n, 3}, position.data());
           f.write(g + "/velocity", {n, 3}, velocity.data());
         }
+      f.close(); // written to disk here (io/hdf5_file.h)
     }
   catch (const std::runtime_error &e)
     {
