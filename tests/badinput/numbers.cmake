@@ -8,7 +8,7 @@ add_test(NAME badinput_numeric_entries_run_validly_or_are_refused
   COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/badinput/numeric_entries.py $<TARGET_FILE:flextrack>
           ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/badinput/numeric_entries --jobs 2)
 set_tests_properties(badinput_numeric_entries_run_validly_or_are_refused PROPERTIES
-  LABELS badinput PROCESSORS 2 TIMEOUT 600)
+  LABELS badinput PROCESSORS 2 TIMEOUT 1500)
 # The full sweep (label stress, about 630 runs, about 7 minutes): every entry in every scene that
 # reads it, all five values. Not in the default run: it exists only in the configuration
 # "stress", run it with `ctest -C stress -L stress`.
