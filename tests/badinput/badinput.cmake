@@ -23,6 +23,7 @@ set(FLEXTRACK_HOSTILE_SCENE_CASES
   converge_12_refinements_of_an_arm helix_of_1e9_turns mesh_with_a_loose_part tan_across_its_pole shift_nan shift_1e300
   line_end_at_1e308 scene_is_binary scene_is_utf16 value_of_50_mb value_of_1_mb scene_is_a_directory
   scene_is_dev_zero frequencies_csv_links_to_dev_full write_error_file_size_limit reduce_write_error_file_size_limit stale_mode_shapes_removed
+  cached_body_with_nan_stiffness_is_rebuilt track_stations_2147483647
   mpirun_reduce)
 find_program(MPIRUN mpirun)
 foreach(case ${FLEXTRACK_HOSTILE_SCENE_CASES})

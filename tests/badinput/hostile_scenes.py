@@ -218,6 +218,16 @@ CASES = {
     "reduce_write_error_file_size_limit": dict(
         files={"s.prm": "<small body>"}, args=["reduce", "s.prm", "-o", "out"], fsize_limit=20000, status=(2, 3),
         regex=r"reduced_body.h5.*(File too large|No space|disk full)", entry="", names_file=False),
+    # A cached reduced body whose input hash matches but whose stiffness is NaN ("up to date,
+    # nothing recomputed" before): it is checked on read, reported unusable and rebuilt.
+    "cached_body_with_nan_stiffness_is_rebuilt": dict(
+        files={"s.prm": "<small body>"}, before=["reduce", "s.prm", "-o", "out"], tamper="nan_stiffness",
+        args=["reduce", "s.prm", "-o", "out"], status=0, outputs=["reduced_body.h5", "summary.json"],
+        stdout=r"reduced_body.h5 is unusable \(.*stiffness.*\): recomputing"),
+    "track_stations_2147483647": dict(
+        files={"s.prm": "<small body>", "t.prm": "include s.prm\nsubsection Reduction\n  set Track arms = boom\n"
+               "  set Track stations = 2147483647\nend\n"}, args=["reduce", "t.prm"],
+        regex=r"Track stations.*allowed: 1 to 1000"),
     "stale_mode_shapes_removed": dict(
         files={"s.prm": arm(modes="6"), "t.prm": arm(modes="2")}, args=["modes", "t.prm", "-o", "out"],
         before=["modes", "s.prm", "-o", "out"], status=0, outputs=["frequencies.csv"], stale=["mode_5", "mode_6"]),
@@ -261,6 +271,7 @@ def run(exe, work, args, case, mpirun):
     try:
         p = subprocess.run(command, cwd=work, env=env, capture_output=True, timeout=60 * TIME_FACTOR, preexec_fn=preexec)
         status, err = p.returncode, p.stderr.decode("utf-8", "replace")
+        case["stdout_text"] = p.stdout.decode("utf-8", "replace")
     except subprocess.TimeoutExpired:
         status, err = None, ""
     return status, err, time.monotonic() - start
@@ -280,6 +291,10 @@ def main():
         status, err, _ = run(exe, work, case["before"], {}, mpirun)
         if status != 0:
             problems.append(f"the first run ({' '.join(case['before'])}) failed: {status} {err[:300]}")
+    if case.get("tamper") == "nan_stiffness":
+        import h5py
+        with h5py.File(os.path.join(work, "out", "reduced_body.h5"), "r+") as f:
+            f["/reduced/stiffness"][0, 0] = float("nan")
     status, err, seconds = run(exe, work, case["args"], case, mpirun)
     message = err.strip()
     if case.get("mpi"):  # mpirun adds its own lines about the exit status; only flextrack's count
@@ -295,6 +310,8 @@ def main():
     elif status not in expected:
         problems.append(f"exit status {status}, expected {' or '.join(map(str, expected))}")
     if status == 0:
+        if "stdout" in case and not re.search(case["stdout"], case.get("stdout_text", "")):
+            problems.append(f"the log does not say /{case['stdout']}/")
         for f in case.get("outputs", []):
             if not os.path.isfile(os.path.join(out, f)) or os.path.getsize(os.path.join(out, f)) == 0:
                 problems.append(f"no output file {f}")
