@@ -4,6 +4,8 @@
 
 #include <deal.II/lac/lapack_full_matrix.h>
 
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -36,7 +38,72 @@ private:
   std::ostringstream &out;
   unsigned int count = 0;
 };
+
+/// The shortest text that reads back as the same double (for positions in the .elm comments).
+std::string shortest(const double v)
+{
+  char text[32];
+  const auto r = std::to_chars(text, text + sizeof(text), v == 0 ? 0.0 : v);
+  return std::string(text, r.ptr);
+}
+
+/// (A + A^T) / 2, each pair computed once: the result is symmetric bit for bit.
+dealii::FullMatrix<double> symmetric_part(const dealii::FullMatrix<double> &A)
+{
+  dealii::FullMatrix<double> S(A.m(), A.n());
+  for (unsigned int i = 0; i < A.m(); ++i)
+    {
+      S(i, i) = A(i, i);
+      for (unsigned int j = 0; j < i; ++j) S(i, j) = S(j, i) = 0.5 * (A(i, j) + A(j, i));
+    }
+  return S;
+}
+
+/// Off-diagonal terms at most mbdyn_round_off_threshold sqrt(|S_ii S_jj|) set to 0.
+void drop_round_off(dealii::FullMatrix<double> &S)
+{
+  for (unsigned int i = 0; i < S.m(); ++i)
+    for (unsigned int j = 0; j < i; ++j)
+      if (std::abs(S(i, j)) <= mbdyn_round_off_threshold * std::sqrt(std::abs(S(i, i) * S(j, j)))) S(i, j) = S(j, i) = 0;
+}
 } // namespace
+
+MbdynMatrices mbdyn_matrices(const reduction::ReducedBody &body)
+{
+  MbdynMatrices r{symmetric_part(body.mass), symmetric_part(body.stiffness), symmetric_part(body.damping), true};
+  for (unsigned int i = 0; i < r.mass.m(); ++i)
+    for (unsigned int j = 0; j < r.mass.n(); ++j)
+      if (!(std::abs(r.mass(i, j) - (i == j ? 1.0 : 0.0)) <= mbdyn_orthonormal_tolerance)) r.mass_orthonormal = false;
+  if (r.mass_orthonormal)
+    for (auto *A : {&r.mass, &r.stiffness, &r.damping}) drop_round_off(*A);
+  return r;
+}
+
+MbdynSupport mbdyn_support(const reduction::ReducedBody &body)
+{
+  const unsigned int n = body.n_modes();
+  if (n == 0) return MbdynSupport::no_modes;
+  if (!body.interfaces.empty())
+    {
+      bool all_zero = true;
+      for (unsigned int c = 0; c < 6; ++c)
+        for (unsigned int k = 0; k < n; ++k) all_zero = all_zero && body.interfaces[0].modes(c, k) == 0;
+      if (all_zero) return MbdynSupport::free_at_first_interface;
+    }
+  // Mean axes: |I3(a, k)| <= sqrt(m M_kk) and |I4(a, k)| <= sqrt(J_O(a, a) M_kk) (Cauchy-Schwarz
+  // in the mass inner product); a free-interface basis of a free body is M-orthogonal to the rigid
+  // motions, so both vanish to round-off, relative 1e-8 of these bounds.
+  const auto &inv = body.invariants;
+  bool mean_axes = inv.I3.m() == 3 && inv.I4.m() == 3 && inv.I3.n() == n && inv.I4.n() == n;
+  for (unsigned int a = 0; a < 3 && mean_axes; ++a)
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        const double Mkk = std::abs(body.mass(k, k));
+        mean_axes = mean_axes && std::abs(inv.I3(a, k)) <= 1e-8 * std::sqrt(std::abs(inv.mass) * Mkk) &&
+                    std::abs(inv.I4(a, k)) <= 1e-8 * std::sqrt(std::abs(inv.inertia_origin[a][a]) * Mkk);
+      }
+  return mean_axes ? MbdynSupport::free_mean_axes : MbdynSupport::supported;
+}
 
 std::string mbdyn_node_label(const std::string &name)
 {
@@ -104,8 +171,9 @@ std::string mbdyn_fem_text(const reduction::ReducedBody &body)
         num.end_line();
       }
   };
-  matrix(9, "MODAL MASS MATRIX", body.mass);
-  matrix(10, "MODAL STIFFNESS MATRIX", body.stiffness);
+  const MbdynMatrices written = mbdyn_matrices(body);
+  matrix(9, "MODAL MASS MATRIX", written.mass);
+  matrix(10, "MODAL STIFFNESS MATRIX", written.stiffness);
   out << "** RECORD GROUP 12, RIGID BODY MASS, CENTRE OF MASS, INERTIA ABOUT THE CENTRE OF MASS\n";
   num.add(inv.mass);
   num.end_line();
@@ -117,7 +185,7 @@ std::string mbdyn_fem_text(const reduction::ReducedBody &body)
       for (unsigned int j = 0; j < 3; ++j) num.add(J[i][j]);
       num.end_line();
     }
-  matrix(13, "MODAL DAMPING MATRIX", body.damping);
+  matrix(13, "MODAL DAMPING MATRIX", written.damping);
   matrix(14, "INVARIANT 3", inv.I3);
   matrix(15, "INVARIANT 4", inv.I4);
   // I8_j = -int rho x~ phi_j~ = tr(P_j) 1 - P_j; rows r, then mode j, then column c.
@@ -152,32 +220,69 @@ std::string mbdyn_fem_text(const reduction::ReducedBody &body)
 
 std::string mbdyn_elm_text(const reduction::ReducedBody &body, const std::string &fem_file_name)
 {
+  if (fem_file_name.empty() || fem_file_name.find_first_of("\"\\") != std::string::npos ||
+      base::printable_excerpt(fem_file_name, fem_file_name.size()) != fem_file_name)
+    throw InputError("", "cannot name the .fem file '" + base::printable_excerpt(fem_file_name) +
+                           "' in an MBDyn string (no quotes, backslashes or control characters)");
+  const unsigned int n = body.n_modes(), N = body.interfaces.size();
+  const MbdynSupport support = mbdyn_support(body);
+  const std::string first = N ? mbdyn_node_label(body.interfaces[0].name) : "";
   std::ostringstream out;
-  out << "# MBDyn include file written by FlexTrack " FLEXTRACK_VERSION " for the reduced body of "
-      << base::printable_excerpt(body.source, 200) << "\n# (" << body.n_modes() << " modes, "
-      << base::printable_excerpt(body.method, 80) << ", SI units). Include it in the elements block\n"
-      << "# after setting the labels below: the modal node (a 'structural: ..., modal, ...' node at the\n"
-      << "# body frame origin, axes as the body frame) and one multibody node per interface, placed at\n"
-      << "# the interface with initial velocities consistent with the modal node's rigid motion.\n";
-  out << "set: integer flextrack_modal_joint = 1000;\n";
-  out << "set: integer flextrack_modal_node = 1000;\n";
-  for (unsigned int i = 0; i < body.interfaces.size(); ++i)
+  out << "# MBDyn include file for the elements block, written by FlexTrack for the reduced body of\n# "
+      << base::printable_excerpt(body.source, 200) << " (" << n << " modes, " << base::printable_excerpt(body.method, 80)
+      << ", SI units). The labels are set only if not\n"
+      << "# set before ('ifndef'). In the nodes block: the modal node at the body-frame origin with the\n"
+      << "# body-frame axes (a body at rest in the global frame: modal, null, eye, null, null), and per\n"
+      << "# interface a structural node at the position below, oriented as the modal node, moving with\n"
+      << "# the modal node's rigid motion. Do not move the modal node with 'origin node': MBDyn would\n"
+      << "# shift the node positions and record group 12 but not the invariants 14-18.\n";
+  out << "set: ifndef integer flextrack_modal_joint = 1000;\n";
+  out << "set: ifndef integer flextrack_modal_node = 1000;\n";
+  for (unsigned int i = 0; i < N; ++i)
     {
       const auto &p = body.interfaces[i];
-      out << "set: integer flextrack_node_" << mbdyn_node_label(p.name) << " = " << 1001 + i << ";  # at ("
-          << p.position[0] << ", " << p.position[1] << ", " << p.position[2] << ") m\n";
+      out << "set: ifndef integer flextrack_node_" << mbdyn_node_label(p.name) << " = " << 1001 + i << ";  # at ("
+          << shortest(p.position[0]) << ", " << shortest(p.position[1]) << ", " << shortest(p.position[2]) << ") m\n";
     }
+  // The modal joint in the manual's order: node, mode count, FEM node count ('from file'),
+  // damping, file name, interface count, interfaces.
   out << "joint: flextrack_modal_joint, modal,\n"
       << "\tflextrack_modal_node,\n"
-      << "\t" << body.n_modes() << ",  # modes\n"
-      << "\tdamping from file,\n"
+      << "\t" << n << ",  # modes\n"
+      << "\tfrom file,  # FEM nodes: those of the .fem file\n"
+      << "\tdamping from file,  # record group 13\n"
       << "\t\"" << fem_file_name << "\",\n"
-      << "\t" << body.interfaces.size() << (body.interfaces.empty() ? ";" : ",") << "  # interface nodes\n";
-  for (unsigned int i = 0; i < body.interfaces.size(); ++i)
+      << "\t" << N << (N ? "," : ";") << "  # interface nodes\n";
+  for (unsigned int i = 0; i < N; ++i)
     {
       const std::string label = mbdyn_node_label(body.interfaces[i].name);
-      out << "\t\t\"" << label << "\", flextrack_node_" << label << ", null"
-          << (i + 1 == body.interfaces.size() ? ";" : ",") << "\n";
+      out << "\t\t\"" << label << "\", flextrack_node_" << label << ", null" << (i + 1 == N ? ";" : ",") << "\n";
+    }
+  const std::string clamp = "joint: flextrack_clamp_joint, clamp, flextrack_modal_node, node, node;";
+  switch (support)
+    {
+      case MbdynSupport::supported:
+        out << "# The body has supports, fixed in the body frame (its modes are those of the supported body),\n"
+            << "# so the modal node must be held: clamped where it stands; count 2 joints for this file in the\n"
+            << "# control data. For supports on a moving part, replace the clamp by a joint to that part.\n"
+            << "set: ifndef integer flextrack_clamp_joint = 1001;\n"
+            << clamp << "\n";
+        break;
+      case MbdynSupport::free_at_first_interface:
+        out << "# A free body: every mode is 0 at its first interface '" << first << "' (its body frame), so\n"
+            << "# the modal node moves freely; count 1 joint for this file in the control data. Only if the\n"
+            << "# body's scene has supports (all at '" << first << "'), hold the modal node, e.g.\n"
+            << "# set: ifndef integer flextrack_clamp_joint = 1001;\n# " << clamp << "\n";
+        break;
+      case MbdynSupport::free_mean_axes:
+        out << "# A free body (mean axes: I3 = I4 = 0), so the modal node moves freely; count 1 joint for\n"
+            << "# this file in the control data.\n";
+        break;
+      case MbdynSupport::no_modes:
+        out << "# No modes: a rigid body. Count 1 joint for this file in the control data; if the body's\n"
+            << "# scene has supports, hold the modal node, e.g.\n"
+            << "# set: ifndef integer flextrack_clamp_joint = 1001;\n# " << clamp << "\n";
+        break;
     }
   return out.str();
 }

@@ -9,6 +9,16 @@
 // body's interfaces, labelled by their names. Layout rules (one comment line after the RG 1
 // marker, none after the others, one header line before each mode, plain 'e' exponents with
 // 17 significant digits, at most 6 numbers a line) are documented in doc/exports.md.
+//
+// Record groups 9, 10 and 13 hold the symmetric part of each reduced matrix, exactly symmetric
+// (MBDyn compares M(i, j) with M(j, i) bit for bit and warns on any difference). When the basis
+// is mass-orthonormal, off-diagonal terms at round-off level are written as 0 (MBDyn also warns
+// on any non-zero off-diagonal term): see mbdyn_round_off_threshold.
+//
+// The .elm statement follows the modal joint syntax of the MBDyn input manual (section "Modal",
+// joints), token by token: node, mode count, 'from file' (FEM node count from the .fem file),
+// 'damping from file' (record group 13), the file name, the interface count, the interfaces.
+// A body whose data show supports gets a clamp of its modal node (see MbdynSupport).
 #pragma once
 
 #include <reduction/reduced_body.h>
@@ -17,11 +27,48 @@
 
 namespace flextrack::io
 {
+/// A basis counts as mass-orthonormal when every entry of M - 1 is at most this in magnitude.
+inline constexpr double mbdyn_orthonormal_tolerance = 1e-9;
+/// With a mass-orthonormal basis, an off-diagonal term A(i, j) of the mass, stiffness or damping
+/// matrix is written as 0 when |A(i, j)| <= mbdyn_round_off_threshold * sqrt(|A(i, i) A(j, j)|).
+/// In the scaled matrix D^-1/2 A D^-1/2 (D the diagonal) this drops terms of at most 1e-9: each
+/// eigenvalue (w^2) moves by at most about (n - 1) 1e-9 relative (the scaled matrix is near the
+/// identity), by O(1e-18) for modes that are not nearly repeated. Measured round-off in
+/// FlexTrack's bases (at most 3.8e-12): see doc/exports.md.
+inline constexpr double mbdyn_round_off_threshold = 1e-9;
+
+/// The generalised mass, stiffness and damping as written to record groups 9, 10 and 13.
+struct MbdynMatrices
+{
+  dealii::FullMatrix<double> mass, stiffness, damping;
+  bool mass_orthonormal = false; ///< round-off off-diagonal terms were set to 0
+};
+/// The symmetric part (A + A^T) / 2 of each matrix, computed once per pair so that A(i, j) and
+/// A(j, i) are the same double; with a mass-orthonormal basis, off-diagonal round-off set to 0.
+MbdynMatrices mbdyn_matrices(const reduction::ReducedBody &body);
+
+/// What the data of a reduced body show about how it is held. A free body always carries one of
+/// two signatures (the reduction builds it so): Craig-Bampton holds it at its first interface
+/// (every mode is exactly 0 there), free-interface uses mean axes (I3 = I4 = 0 to round-off).
+/// A body with modes and neither signature has supports. Without modes, or with a signature
+/// (a supported body whose first interface sits on its supports looks the same), it is not
+/// known.
+enum class MbdynSupport
+{
+  supported,               ///< the .elm clamps the modal node
+  free_at_first_interface, ///< Craig-Bampton, body frame at the first interface
+  free_mean_axes,          ///< free-interface method, mean axes
+  no_modes                 ///< a rigid body: nothing shows supports
+};
+MbdynSupport mbdyn_support(const reduction::ReducedBody &body);
+
 /// The .fem text. Throws InputError if the body's inertia tensor about its centre of mass is not
 /// positive definite (MBDyn fails on its first step with such a body).
 std::string mbdyn_fem_text(const reduction::ReducedBody &body);
 
-/// The .elm text: a modal joint that reads @p fem_file_name, with one attachment per interface.
+/// The .elm text: a modal joint that reads @p fem_file_name, with one attachment per interface,
+/// and, for a supported body, a clamp of the modal node (otherwise a comment saying when to add
+/// one). Throws InputError if @p fem_file_name cannot be written inside an MBDyn string.
 std::string mbdyn_elm_text(const reduction::ReducedBody &body, const std::string &fem_file_name);
 
 /// Label of an interface in the .fem file: its name with blanks replaced by '_'.

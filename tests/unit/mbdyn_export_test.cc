@@ -4,6 +4,14 @@
 // 8, 9, 10, 12 and 14-18 read from an exported file are recomputed from the FE model and the
 // reduced basis by independent formulas (cross-product operators on the full model's nodal
 // fields and its consistent mass matrix) and must agree to 1e-12 relative.
+//
+// Issue 13: a strict parser of the .elm include file that follows the modal joint syntax of the
+// MBDyn input manual (section "Modal" of the joints: reference node, mode count, optional list and
+// initial values, FEM node count or 'from file', optional damping, the quoted FEM file name,
+// optional threshold/binary/echo/invariant/origin items, interface count, interfaces) and the
+// clamp joint (node, position, orientation); it rejects the statement that MBDyn rejected (no
+// 'from file' before 'damping from file'). Record groups 9, 10 and 13 are exactly symmetric and,
+// for a mass-orthonormal basis, diagonal.
 #include <fem/body_model.h>
 #include <io/body_scene.h>
 #include <base/input_error.h>
@@ -18,6 +26,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -152,6 +161,310 @@ FemFile read_fem_strictly(const std::string &text)
     for (const int g : {14, 15, 16, 17, 18})
       if (fem.groups.count(g)) reject(0, "record group 11 together with 14-18: MBDyn would add them");
   return fem;
+}
+
+
+// ---------------------------------------------------------------------------------------------
+// A strict reader of MBDyn input text (the statements an include file for the elements block may
+// hold): '#' comments to the end of a line and C comments; statements end at ';'; a statement is
+// "description: fields", fields separated by ',' (quotes protect both). Multi-word keywords are
+// compared with their blanks collapsed.
+
+struct MbdynStatement
+{
+  std::string description;          ///< before the first ':'
+  std::vector<std::string> fields;  ///< trimmed, inner blanks collapsed to one
+};
+
+std::vector<MbdynStatement> mbdyn_statements(const std::string &text)
+{
+  // Remove comments outside strings.
+  std::string clean;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i)
+    {
+      const char c = text[i];
+      if (in_string)
+        {
+          if (c == '\n') throw std::runtime_error("a string runs past the end of its line");
+          in_string = c != '"';
+          clean += c;
+        }
+      else if (c == '"')
+        in_string = true, clean += c;
+      else if (c == '#')
+        {
+          while (i < text.size() && text[i] != '\n') ++i;
+          clean += '\n';
+        }
+      else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*')
+        {
+          const auto end = text.find("*/", i + 2);
+          if (end == std::string::npos) throw std::runtime_error("unterminated C comment");
+          i = end + 1;
+          clean += ' ';
+        }
+      else
+        clean += c;
+    }
+  if (in_string) throw std::runtime_error("unterminated string");
+  auto collapse = [](const std::string &f) {
+    std::string r;
+    std::istringstream words(f);
+    for (std::string w; words >> w;) r += (r.empty() ? "" : " ") + w;
+    return r;
+  };
+  std::vector<MbdynStatement> statements;
+  std::string current;
+  in_string = false;
+  for (const char c : clean)
+    {
+      if (c == '"') in_string = !in_string;
+      if (c != ';' || in_string)
+        {
+          current += c;
+          continue;
+        }
+      const auto colon = current.find(':');
+      if (colon == std::string::npos) throw std::runtime_error("statement without ':': '" + collapse(current) + "'");
+      MbdynStatement st{collapse(current.substr(0, colon)), {}};
+      std::string field;
+      bool quoted = false;
+      for (const char d : current.substr(colon + 1) + ",")
+        {
+          if (d == '"') quoted = !quoted;
+          if (d == ',' && !quoted)
+            {
+              st.fields.push_back(collapse(field));
+              field.clear();
+            }
+          else
+            field += d;
+        }
+      for (const auto &f : st.fields)
+        if (f.empty()) throw std::runtime_error("empty field in '" + st.description + ":' statement");
+      statements.push_back(st);
+      current.clear();
+    }
+  if (!collapse(current).empty()) throw std::runtime_error("text after the last ';': '" + collapse(current) + "'");
+  return statements;
+}
+
+/// The modal joint as read by the grammar of the manual.
+struct ModalJoint
+{
+  long long label = 0, node = -1; ///< node -1: 'clamped'
+  long long modes = 0;
+  bool nodes_from_file = false;
+  std::string damping; ///< the damping keyword, or empty
+  std::string file;
+  std::string origin; ///< 'origin node' / 'origin position', or empty
+  struct Attachment
+  {
+    std::string fem_label;
+    long long multibody_node = 0;
+  };
+  std::vector<Attachment> interfaces;
+};
+
+struct ClampJoint
+{
+  long long label = 0, node = 0;
+};
+
+/// Reads the statements of an .elm file: 'set: integer NAME = VALUE' definitions, modal joints
+/// and clamp joints, each field in the order of the manual's syntax; anything else is an error.
+struct ElmFile
+{
+  std::map<std::string, long long> integers;
+  std::vector<ModalJoint> modal;
+  std::vector<ClampJoint> clamps;
+};
+
+ElmFile read_elm_strictly(const std::string &text)
+{
+  ElmFile elm;
+  for (const auto &st : mbdyn_statements(text))
+    {
+      const std::string where = "'" + st.description + ": " + (st.fields.empty() ? "" : st.fields[0]) + ", ...'";
+      auto fail = [&](const std::string &why) -> void { throw std::runtime_error(where + ": " + why); };
+      if (st.description == "set")
+        {
+          std::smatch m;
+          // [ifndef] [const] integer NAME = VALUE (manual, "set"); 'ifndef' keeps an existing name.
+          static const std::regex integer_set(R"((ifndef )?(const )?integer ([A-Za-z_][A-Za-z0-9_]*) = (-?[0-9]+))");
+          if (st.fields.size() != 1 || !std::regex_match(st.fields[0], m, integer_set))
+            fail("not '[ifndef] [const] integer NAME = VALUE'");
+          if (elm.integers.count(m[3]) && !m[1].matched) fail("'" + std::string(m[3]) + "' set twice");
+          elm.integers.emplace(m[3], std::stoll(m[4]));
+          continue;
+        }
+      if (st.description != "joint") fail("not a 'set:' or 'joint:' statement");
+      std::size_t i = 0;
+      auto at_end = [&] { return i >= st.fields.size(); };
+      auto peek = [&]() -> std::string { return at_end() ? std::string("<end of statement>") : st.fields[i]; };
+      auto next = [&](const std::string &what) {
+        if (at_end()) fail(what + " expected, the statement ends");
+        return st.fields[i++];
+      };
+      auto is_integer_literal = [](const std::string &f) { return std::regex_match(f, std::regex("-?[0-9]+")); };
+      auto integer = [&](const std::string &what) {
+        const std::string f = next(what);
+        if (is_integer_literal(f)) return std::stoll(f);
+        if (elm.integers.count(f)) return elm.integers.at(f);
+        fail(what + " (an integer or a 'set: integer' name) expected, found '" + f + "'");
+        return 0LL;
+      };
+      auto real = [&](const std::string &what) {
+        const std::string f = next(what);
+        char *end = nullptr;
+        const double v = std::strtod(f.c_str(), &end);
+        if (f.empty() || end != f.c_str() + f.size()) fail(what + " (a number) expected, found '" + f + "'");
+        return v;
+      };
+      auto keyword = [&](const std::string &k) {
+        if (peek() != k) return false;
+        ++i;
+        return true;
+      };
+      auto vec3 = [&](const std::string &what) {
+        if (keyword("null")) return;
+        for (int c = 0; c < 3; ++c) real(what);
+      };
+      auto orientation = [&](const std::string &what) {
+        if (keyword("eye")) return;
+        for (int c = 0; c < 9; ++c) real(what);
+      };
+      const long long label = integer("joint label");
+      const std::string type = next("joint type");
+      if (type == "clamp")
+        {
+          ClampJoint c{label, integer("node label")};
+          keyword("position");
+          if (!keyword("node")) vec3("absolute position");
+          keyword("orientation");
+          if (!keyword("node")) orientation("absolute orientation");
+          if (!at_end()) fail("'" + peek() + "' after the clamp's orientation");
+          elm.clamps.push_back(c);
+          continue;
+        }
+      if (type != "modal") fail("joint type '" + type + "' is neither 'modal' nor 'clamp'");
+      ModalJoint j;
+      j.label = label;
+      // { reference_modal_node | clamped [, position, Vec3] [, orientation, OrientationMatrix] }
+      if (keyword("clamped"))
+        {
+          if (keyword("position")) vec3("absolute position");
+          if (keyword("orientation")) orientation("absolute orientation");
+        }
+      else
+        j.node = integer("reference modal node");
+      j.modes = integer("mode number");
+      if (j.modes <= 0) fail("mode number must be positive");
+      if (keyword("list"))
+        for (long long k = 0; k < j.modes; ++k) integer("active mode");
+      if (keyword("initial value"))
+        {
+          if (peek() == "mode")
+            while (keyword("mode"))
+              {
+                integer("mode index");
+                real("q_j");
+                real("qP_j");
+              }
+          else
+            for (long long k = 0; k < 2 * j.modes; ++k) real("initial value");
+        }
+      // { FEM_node_number | from file }
+      if (keyword("from file"))
+        j.nodes_from_file = true;
+      else if (is_integer_literal(peek()) || elm.integers.count(peek()))
+        integer("FEM node number");
+      else
+        fail("the FEM node number or 'from file' expected after the mode count, found '" + peek() + "'");
+      // [ damping ]
+      if (keyword("no damping") || keyword("damping from file"))
+        j.damping = st.fields[i - 1];
+      else if (keyword("rayleigh damping"))
+        {
+          j.damping = "rayleigh damping";
+          real("mass damping coefficient");
+          real("stiffness damping coefficient");
+        }
+      else if (keyword("single factor damping"))
+        {
+          j.damping = "single factor damping";
+          real("damping factor");
+        }
+      else if (keyword("diag damping"))
+        {
+          j.damping = "diag damping";
+          if (keyword("all"))
+            for (long long k = 0; k < j.modes; ++k) real("damping factor");
+          else
+            for (long long k = integer("number of damped modes"); k > 0; --k)
+              {
+                integer("mode index");
+                real("damping factor");
+              }
+        }
+      // " FEM_data_file "
+      {
+        const std::string f = next("the quoted FEM data file");
+        if (f.size() < 2 || f.front() != '"' || f.back() != '"')
+          fail("the quoted FEM data file expected, found '" + f + "'");
+        j.file = f.substr(1, f.size() - 2);
+      }
+      for (const char *k : {"threshold", "mass threshold", "damping threshold", "stiffness threshold"})
+        if (keyword(k)) real("threshold");
+      while (keyword("create binary") || keyword("use binary") || keyword("update binary")) {}
+      if (keyword("echo"))
+        {
+          next("echo file");
+          if (keyword("precision")) integer("precision");
+        }
+      keyword("use invariant 9");
+      if (keyword("origin node"))
+        {
+          j.origin = "origin node";
+          integer("origin node");
+        }
+      else if (keyword("origin position"))
+        {
+          j.origin = "origin position";
+          vec3("origin position");
+        }
+      const long long count = integer("interface nodes number");
+      if (count < 0) fail("negative interface count");
+      if (keyword("output")) next("output flag");
+      if (keyword("interface tolerance")) real("interface tolerance");
+      for (long long k = 0; k < count; ++k)
+        {
+          ModalJoint::Attachment a;
+          const std::string fem = next("FEM node label");
+          if (fem == "find closest")
+            {
+              if (keyword("interface tolerance")) real("interface tolerance");
+            }
+          else if (fem.size() >= 2 && fem.front() == '"' && fem.back() == '"')
+            {
+              a.fem_label = fem.substr(1, fem.size() - 2);
+              if (a.fem_label.empty() || a.fem_label.find_first_of(" \t") != std::string::npos)
+                fail("FEM label '" + a.fem_label + "' is empty or has blanks");
+            }
+          else if (is_integer_literal(fem))
+            a.fem_label = fem;
+          else
+            fail("FEM node label (a quoted string, an integer or 'find closest') expected, found '" + fem + "'");
+          a.multibody_node = integer("multibody node label");
+          vec3("offset of the FEM node");
+          if (keyword("output")) next("output flag");
+          j.interfaces.push_back(a);
+        }
+      if (!at_end()) fail("'" + peek() + "' after the " + std::to_string(count) + " interface nodes");
+      elm.modal.push_back(j);
+    }
+  return elm;
 }
 
 const std::string bracket =
@@ -416,4 +729,216 @@ TEST(MbdynExport, refuses_a_body_whose_inertia_is_not_positive_definite)
     {
       EXPECT_NE(std::string(e.what()).find("not positive definite"), std::string::npos) << e.what();
     }
+}
+
+
+namespace
+{
+/// The bracket body, supported ('with_supports': the solid's XMIN face clamped) or free, reduced
+/// by @p method (through the HDF5 file when @p through_file, as 'flextrack export' reads it).
+reduction::ReducedBody bracket_body(const bool with_supports, const std::string &method = "craig bampton")
+{
+  std::string text = bracket;
+  if (with_supports) text.replace(text.find(" set Supports =\n"), 16, " set Supports = XMIN: x, y, z\n");
+  if (method != "craig bampton") text += "subsection Reduction\n set Method = " + method + "\nend\n";
+  const auto scene = io::read_body_scene_from_string(text);
+  const fem::BodyModel model(scene.body);
+  return reduction::make_reduced_body(model, reduction::reduce(model, scene.reduction), scene.reduction.method_name());
+}
+
+std::string parse_error(const std::string &text)
+{
+  try
+    {
+      read_elm_strictly(text);
+    }
+  catch (const std::exception &e)
+    {
+      return e.what();
+    }
+  return "";
+}
+} // namespace
+
+TEST(MbdynExport, elm_modal_joint_follows_the_manuals_token_order)
+{
+  // The free bracket (Craig-Bampton, held at its first interface 'tip'): one modal joint whose
+  // fields are, in the manual's order, the modal node, the mode count, 'from file', 'damping from
+  // file', the .fem name, the interface count and the interfaces; the FEM labels are those of
+  // the .fem file's record group 2 and every multibody label is defined by a 'set:'.
+  const auto body = bracket_body(false);
+  ASSERT_EQ(io::mbdyn_support(body), io::MbdynSupport::free_at_first_interface);
+  const std::string text = io::mbdyn_elm_text(body, "bracket.fem");
+  const ElmFile elm = read_elm_strictly(text);
+  ASSERT_EQ(elm.modal.size(), 1u);
+  EXPECT_TRUE(elm.clamps.empty()) << "a free body's modal node must not be clamped";
+  const ModalJoint &j = elm.modal[0];
+  EXPECT_EQ(j.label, 1000);
+  EXPECT_EQ(j.node, elm.integers.at("flextrack_modal_node"));
+  EXPECT_EQ(j.modes, static_cast<long long>(body.n_modes()));
+  EXPECT_TRUE(j.nodes_from_file);
+  EXPECT_EQ(j.damping, "damping from file");
+  EXPECT_EQ(j.file, "bracket.fem");
+  EXPECT_EQ(j.origin, "") << "the modal node stays at the body-frame origin";
+  const FemFile fem = read_fem_strictly(io::mbdyn_fem_text(body));
+  ASSERT_EQ(j.interfaces.size(), 2u);
+  std::set<long long> nodes;
+  for (unsigned int i = 0; i < j.interfaces.size(); ++i)
+    {
+      EXPECT_EQ(j.interfaces[i].fem_label, body.interfaces[i].name);
+      EXPECT_NE(std::find(fem.labels.begin(), fem.labels.end(), j.interfaces[i].fem_label), fem.labels.end());
+      EXPECT_EQ(j.interfaces[i].multibody_node, elm.integers.at("flextrack_node_" + body.interfaces[i].name));
+      nodes.insert(j.interfaces[i].multibody_node);
+    }
+  EXPECT_EQ(nodes.size(), 2u);
+  EXPECT_EQ(nodes.count(j.node), 0u) << "an interface node may not be the modal node";
+  // The comment names the interface positions exactly (shortest text that reads back the same).
+  for (const auto &p : body.interfaces)
+    {
+      const auto at = text.find("flextrack_node_" + p.name + " = ");
+      ASSERT_NE(at, std::string::npos);
+      std::smatch m;
+      const std::string line = text.substr(at, text.find('\n', at) - at);
+      ASSERT_TRUE(std::regex_search(line, m, std::regex(R"(# at \(([^,]+), ([^,]+), ([^)]+)\) m)"))) << line;
+      for (unsigned int d = 0; d < 3; ++d) EXPECT_EQ(std::stod(m[d + 1]), p.position[d]) << line;
+    }
+}
+
+TEST(MbdynExport, elm_parser_rejects_the_statement_mbdyn_rejected)
+{
+  // Issue 13: the statement written before had the mode count followed by 'damping from file';
+  // MBDyn read that as the FEM node count and aborted. The parser must refuse it, and the other
+  // deviations from the manual's order, so that the test above can only pass on a valid file.
+  const std::string good = io::mbdyn_elm_text(bracket_body(false), "bracket.fem");
+  ASSERT_EQ(parse_error(good), "");
+  auto without = [&](const std::string &line) {
+    std::string t = good;
+    const auto at = t.find(line);
+    EXPECT_NE(at, std::string::npos) << line;
+    return t.erase(at, line.size());
+  };
+  auto replaced = [&](const std::string &from, const std::string &to) {
+    std::string t = good;
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return t.replace(at, from.size(), to);
+  };
+  const std::string from_file = "\tfrom file,  # FEM nodes: those of the .fem file\n";
+  const std::string damping = "\tdamping from file,  # record group 13\n";
+  const std::map<std::string, std::pair<std::string, std::string>> bad{
+    {"the old statement (no 'from file')", {without(from_file), "'from file' expected after the mode count, found 'damping from file'"}},
+    {"damping before 'from file'", {replaced(from_file + damping, damping + from_file), "found 'damping from file'"}},
+    {"file name before the damping", {replaced(damping + "\t\"bracket.fem\",\n", "\t\"bracket.fem\",\n" + damping), "interface nodes number"}},
+    {"file name not quoted", {replaced("\"bracket.fem\"", "bracket.fem"), "quoted FEM data file"}},
+    {"one interface fewer than counted", {replaced("\t2,  # interface nodes", "\t3,  # interface nodes"), "expected, the statement ends"}},
+    {"an undefined multibody label", {replaced("\"tip\", flextrack_node_tip", "\"tip\", flextrack_node_top"), "multibody node label"}},
+    {"a label set twice without ifndef", {"set: integer a = 1;\n" + replaced("ifndef integer flextrack_modal_node", "integer a"), "set twice"}},
+    {"a missing ';'", {replaced("null;\n", "null\n"), "after the last ';'"}},
+  };
+  for (const auto &[what, text_and_message] : bad)
+    {
+      const std::string error = parse_error(text_and_message.first);
+      EXPECT_NE(error.find(text_and_message.second), std::string::npos) << what << ": " << (error.empty() ? "accepted" : error);
+      std::cout << what << ": " << error << "\n";
+    }
+  // The manual's own example (section "Modal", output) is accepted.
+  EXPECT_EQ(parse_error("set: integer MODAL_ELEM = 99;\nset: integer MODAL_NODE = 101;\n"
+                        "joint: MODAL_ELEM, modal, MODAL_NODE,\n 3, list, 1, 7, 9, # only some modes\n from file,\n"
+                        " \"modal.fem\",\n 0;                # no FEM nodes\n"),
+            "");
+}
+
+TEST(MbdynExport, supported_body_gets_a_clamp_of_its_modal_node)
+{
+  // Issue 13, item 3: the bracket with its XMIN face clamped. Its modes are those of the
+  // supported body, so left free in MBDyn it would float away; the .elm clamps the modal node
+  // (a second joint) where it stands. The free bracket's .elm only says how to add one.
+  const auto body = bracket_body(true);
+  EXPECT_EQ(io::mbdyn_support(body), io::MbdynSupport::supported);
+  const ElmFile elm = read_elm_strictly(io::mbdyn_elm_text(body, "b.fem"));
+  ASSERT_EQ(elm.clamps.size(), 1u);
+  ASSERT_EQ(elm.modal.size(), 1u);
+  EXPECT_EQ(elm.clamps[0].node, elm.modal[0].node);
+  EXPECT_NE(elm.clamps[0].label, elm.modal[0].label) << "two joints need two labels";
+  const std::string free_text = io::mbdyn_elm_text(bracket_body(false), "b.fem");
+  EXPECT_TRUE(read_elm_strictly(free_text).clamps.empty());
+  EXPECT_NE(free_text.find("# set: ifndef integer flextrack_clamp_joint = 1001;"), std::string::npos);
+  EXPECT_NE(free_text.find("# joint: flextrack_clamp_joint, clamp, flextrack_modal_node, node, node;"), std::string::npos);
+  // Free-interface reduction of the free bracket: mean axes.
+  EXPECT_EQ(io::mbdyn_support(bracket_body(false, "free interface")), io::MbdynSupport::free_mean_axes);
+  EXPECT_EQ(io::mbdyn_support(bracket_body(true, "free interface")), io::MbdynSupport::supported);
+}
+
+TEST(MbdynExport, reduced_matrices_are_written_exactly_symmetric_and_diagonal)
+{
+  // Issue 13, item 2: MBDyn compares M(i, j) with M(j, i) bit for bit and warns on any non-zero
+  // off-diagonal term. The bases are mass-orthonormal, so record groups 9, 10 and 13 must come
+  // out exactly symmetric and diagonal, the diagonal being the stored one; the terms set to 0 are
+  // round-off: at most mbdyn_round_off_threshold sqrt(A_ii A_jj) (the largest is printed).
+  for (const bool supported : {false, true})
+    for (const std::string method : {"craig bampton", "free interface"})
+      {
+        const auto body = bracket_body(supported, method);
+        const FemFile fem = read_fem_strictly(io::mbdyn_fem_text(body));
+        const unsigned int n = body.n_modes();
+        const std::map<int, const dealii::FullMatrix<double> *> stored{{9, &body.mass}, {10, &body.stiffness}, {13, &body.damping}};
+        for (const auto &[group, A] : stored)
+          {
+            const auto &g = fem.groups.at(group);
+            double largest_dropped = 0;
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                EXPECT_EQ(g[i * n + i], (*A)(i, i)) << "RG " << group;
+                for (unsigned int j = 0; j < n; ++j)
+                  if (i != j)
+                    {
+                      EXPECT_EQ(g[i * n + j], 0.0) << "RG " << group << " (" << i << ", " << j << ")";
+                      largest_dropped = std::max(largest_dropped, std::abs((*A)(i, j)) / std::sqrt(std::abs((*A)(i, i) * (*A)(j, j))));
+                    }
+              }
+            EXPECT_LE(largest_dropped, io::mbdyn_round_off_threshold);
+            std::cout << (supported ? "supported, " : "free, ") << method << ", RG " << group
+                      << ": largest off-diagonal |A_ij| / sqrt(A_ii A_jj) set to 0: " << largest_dropped << "\n";
+          }
+      }
+}
+
+TEST(MbdynExport, symmetric_part_keeps_real_coupling_and_drops_round_off_only)
+{
+  // Hand-made matrices. (a) A basis that is not mass-orthonormal: the symmetric part is written,
+  // bit-for-bit symmetric, nothing dropped. (b) A mass-orthonormal basis: a stiffness coupling of
+  // 1e-6 sqrt(K_ii K_jj) is real and stays; one of 1e-12 is round-off and goes.
+  reduction::ReducedBody body;
+  body.mass.reinit(3, 3);
+  body.stiffness.reinit(3, 3);
+  body.damping.reinit(3, 3);
+  const double k[3] = {4e2, 9e6, 2.5e9};
+  for (unsigned int i = 0; i < 3; ++i) body.mass(i, i) = 1, body.stiffness(i, i) = k[i], body.damping(i, i) = 1e-3 * k[i];
+  body.mass(1, 0) = 0.1 + 3e-17;
+  body.mass(0, 1) = 0.1;
+  body.stiffness(2, 1) = 1e-12 * std::sqrt(k[1] * k[2]);
+  body.stiffness(1, 2) = 1.3e-12 * std::sqrt(k[1] * k[2]);
+  body.stiffness(0, 2) = body.stiffness(2, 0) = 1e-6 * std::sqrt(k[0] * k[2]);
+  const auto a = io::mbdyn_matrices(body);
+  EXPECT_FALSE(a.mass_orthonormal);
+  for (const auto *A : {&a.mass, &a.stiffness, &a.damping})
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j) EXPECT_EQ((*A)(i, j), (*A)(j, i));
+  EXPECT_EQ(a.mass(0, 1), 0.5 * (0.1 + (0.1 + 3e-17)));
+  EXPECT_NE(a.stiffness(1, 2), 0.0) << "nothing dropped without a mass-orthonormal basis";
+  body.mass(1, 0) = 3e-17;
+  body.mass(0, 1) = -2e-17;
+  const auto b = io::mbdyn_matrices(body);
+  EXPECT_TRUE(b.mass_orthonormal);
+  EXPECT_EQ(b.mass(0, 1), 0.0);
+  EXPECT_EQ(b.mass(1, 0), 0.0);
+  EXPECT_EQ(b.stiffness(1, 2), 0.0);
+  EXPECT_EQ(b.stiffness(2, 1), 0.0);
+  EXPECT_EQ(b.stiffness(0, 2), 1e-6 * std::sqrt(k[0] * k[2]));
+  EXPECT_EQ(b.stiffness(2, 0), b.stiffness(0, 2));
+  // A term just above the threshold stays, one at it goes.
+  body.stiffness(1, 2) = body.stiffness(2, 1) = 1.01 * io::mbdyn_round_off_threshold * std::sqrt(k[1] * k[2]);
+  EXPECT_NE(io::mbdyn_matrices(body).stiffness(1, 2), 0.0);
+  body.stiffness(1, 2) = body.stiffness(2, 1) = 0.99 * io::mbdyn_round_off_threshold * std::sqrt(k[1] * k[2]);
+  EXPECT_EQ(io::mbdyn_matrices(body).stiffness(1, 2), 0.0);
 }
