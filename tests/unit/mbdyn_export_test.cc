@@ -735,7 +735,7 @@ TEST(MbdynExport, refuses_a_body_whose_inertia_is_not_positive_definite)
 namespace
 {
 /// The bracket body, supported ('with_supports': the solid's XMIN face clamped) or free, reduced
-/// by @p method (through the HDF5 file when @p through_file, as 'flextrack export' reads it).
+/// by @p method.
 reduction::ReducedBody bracket_body(const bool with_supports, const std::string &method = "craig bampton")
 {
   std::string text = bracket;
