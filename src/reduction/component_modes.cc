@@ -240,11 +240,15 @@ Vector<double> inertia_relief(const Vector<double> &f, const MOrthonormalSet &R)
   return g;
 }
 /// The 12 unit inertial load cases (ReducedBasis::geometric_stiffness): static solution with
-/// the body's supports (a free body: inertia relief, held at its first interface), the arms'
-/// geometric stiffness of that state, projected on the modes.
+/// the body's supports (a free body: held at its first interface), the arms' geometric stiffness
+/// of that state, projected on the modes.
+/// No inertia relief: the multibody engine combines these cases with the body frame's actual
+/// angular velocity, angular acceleration and origin acceleration, and that combination is
+/// balanced by itself for a free-flying body and by the joint's reaction for a held one. Relieving
+/// each unit case instead removed the reaction of a body held at its interface: a beam spinning
+/// about its root lost its root tension (flap 1 at W = 10: 7.03 instead of 11.20, Wright et al.).
 std::vector<FullMatrix<double>> geometric_stiffness_of_inertial_loads(const fem::BodyModel &body,
-                                                                      const std::vector<Vector<double>> &modes,
-                                                                      const MOrthonormalSet &R)
+                                                                      const std::vector<Vector<double>> &modes)
 {
   std::vector<unsigned int> hold;
   if (!body.is_supported())
@@ -281,9 +285,7 @@ std::vector<FullMatrix<double>> geometric_stiffness_of_inertial_loads(const fem:
           for (unsigned int d = 0; d < 3; ++d) field[node.u[d]] = v[d];
         }
       body.full_mass_vmult(f, field);
-      Vector<double> g = body.condense(f);
-      if (!R.vectors.empty()) g = inertia_relief(g, R);
-      loads.push_back(std::move(g));
+      loads.push_back(body.condense(f));
     }
   const auto states = held.solve_many(loads);
   std::vector<Vector<double>> full_modes;
@@ -560,8 +562,7 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
   if (settings.geometric_stiffness)
     {
       start("geometric stiffness");
-      r.geometric_stiffness = geometric_stiffness_of_inertial_loads(
-        body, r.modes, mean_axes ? R : !body.is_supported() ? orthonormal_rigid_modes(body) : MOrthonormalSet());
+      r.geometric_stiffness = geometric_stiffness_of_inertial_loads(body, r.modes);
     }
   stage.reset();
   add_damping(settings, r);
