@@ -6,7 +6,9 @@
 // (int lambda^T Phi_t dt: only rheonomic equations, the drivers, contribute), D the dissipated
 // energy (modal damping eta'^T D eta', dampers). The powers are integrated as a quadrature over
 // every internal IDA step: Simpson's rule on IDA's interpolating polynomial (step start, middle,
-// end), so the quadrature error is O(h^5) per step, below the integrator's own error.
+// end), so the quadrature error is O(h^5) per step, below the integrator's own error. An output
+// row inside a step (IDA steps past it and interpolates back) gets the works up to its own time:
+// the sum over the finished steps minus the part of the last step after the row.
 // Geometric stiffening is a linearised, non-conservative force (no potential is kept for it):
 // the balance closes exactly only without it.
 #pragma once
@@ -40,16 +42,24 @@ class Monitors
 {
 public:
   explicit Monitors(const System &system) : system(system) {}
-  /// Integrates the powers over every internal step of @p ida (sets its step hook).
-  void attach(IdaIntegrator &ida);
+  /// Integrates the powers over every internal step of @p integrator (sets its step hook);
+  /// @p integrator must outlive the calls to evaluate().
+  void attach(IdaIntegrator &integrator);
   Powers powers(double t, const dealii::Vector<double> &y) const;
-  /// Everything at (t, y), with the works accumulated so far.
+  /// Everything at (t, y), with the works accumulated up to t (t inside IDA's last step, where
+  /// output rows are interpolated, or at its end).
   MonitorValues evaluate(double t, const dealii::Vector<double> &y) const;
   /// E(t) - E(0) - (W_applied + W_drivers - D), relative to max(|E(0)|, works): the balance error.
   static double balance_error(const MonitorValues &start, const MonitorValues &now);
 
 private:
+  /// Works [J] over [t0, t1] inside IDA's last step (Simpson on its interpolating polynomial).
+  Powers step_work(double t0, double t1) const;
+
   const System &system;
-  double work_applied = 0, work_drivers = 0, dissipated = 0;
+  const IdaIntegrator *ida = nullptr;
+  double work_applied = 0, work_drivers = 0, dissipated = 0; ///< up to the end of the last step
+  double step_begin = 0, step_end = 0;                       ///< IDA's last step [s]
+  Powers step_total;                                         ///< the works over that step [J]
 };
 } // namespace flextrack::multibody
