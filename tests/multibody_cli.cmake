@@ -21,6 +21,10 @@ flextrack_multibody_check(run_solver_failure_keeps_rows_and_says_what_to_change 
                           ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/locking_slider_crank.prm)
 flextrack_multibody_check(run_json_scene_reads_like_prm json_like_prm ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_1s.json)
 set_tests_properties(cli_run_flexible_pendulum_balances_energy PROPERTIES TIMEOUT 600)
+# Multibody/Initial state = static equilibrium: a cantilever sagging under its weight.
+flextrack_multibody_check(run_sagging_cantilever_starts_from_static_equilibrium equilibrium
+                          ${CMAKE_SOURCE_DIR}/prm/sagging_cantilever.prm)
+set_tests_properties(cli_run_sagging_cantilever_starts_from_static_equilibrium PROPERTIES TIMEOUT 600)
 
 add_test(NAME cli_run_eight_processes_at_once
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/multibody_cli/eight_at_once.sh $<TARGET_FILE:flextrack> run
@@ -49,6 +53,9 @@ flextrack_bad_input(run_flexible_body_without_source
 flextrack_bad_input(run_missing_body_scene
   "missing_body_scene.prm: entry 'Body bob/Body scene': .*no_such_body.prm: cannot open the parameter file: no such file"
   run multibody_input/missing_body_scene.prm)
+flextrack_bad_input(run_static_equilibrium_of_a_mechanism
+  "level_slider_equilibrium.prm: entry 'Multibody/Initial state': 'static equilibrium': the scene is a mechanism under these loads.*along 'body slider, R'_x'"
+  run multibody_input/level_slider_equilibrium.prm)
 flextrack_bad_input(linearize_needs_multibody_scene "entry 'Model': is 'arm'; 'flextrack run' and 'flextrack linearize' need 'Model = multibody'"
   linearize input/straight_cantilever.prm)
 

@@ -35,7 +35,9 @@ int linearize_command(const Options &options, const io::SceneFile &file)
     TimerOutput::Scope t(timer, "initial conditions");
     try
       {
-        std::cout << "  " << multibody::consistent_initial_conditions(system, t0, y, yp).text();
+        multibody::InitialConditionSettings initial; // Multibody/Initial state: linearise about the equilibrium
+        initial.static_equilibrium = scene.settings.static_equilibrium;
+        std::cout << "  " << multibody::consistent_initial_conditions(system, t0, y, yp, initial).text();
       }
     catch (const InputError &e)
       {

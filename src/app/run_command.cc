@@ -96,7 +96,27 @@ io::JsonObject initial_conditions_json(const multibody::InitialConditionReport &
   for (const auto &d : r.dropped)
     dropped += (dropped.size() > 1 ? ", " : "") +
                io::JsonObject::quote("joint " + d.joint + ", equation " + std::to_string(d.equation) + " (" + d.description + ")");
-  return j.raw("corrections", corrections + "]").raw("dropped_redundant_equations", dropped + "]");
+  j.raw("corrections", corrections + "]").raw("dropped_redundant_equations", dropped + "]");
+  if (r.equilibrium.solved)
+    {
+      const auto &e = r.equilibrium;
+      io::JsonObject eq;
+      std::string moves = "[";
+      for (const auto &m : e.moves)
+        {
+          io::JsonObject b;
+          b.add("body", m.body).add("moved_m", m.displacement).add("turned_rad", m.rotation).add("modal_change", m.modal);
+          moves += (moves.size() > 1 ? ", " : "") + b.str(6);
+        }
+      eq.add("iterations", e.iterations)
+        .add("force_residual", e.force_residual)
+        .add("largest_load", e.load_scale)
+        .add("position_residual", e.position_residual)
+        .raw("stable", e.stable ? "true" : "false")
+        .raw("moves", moves + "]");
+      j.raw("static_equilibrium", eq.str(4));
+    }
+  return j;
 }
 } // namespace
 
@@ -134,7 +154,9 @@ int run_command(const Options &options, const io::SceneFile &file)
     TimerOutput::Scope t(timer, "initial conditions");
     try
       {
-        report = multibody::consistent_initial_conditions(system, settings.start_time, y, yp);
+        multibody::InitialConditionSettings initial;
+        initial.static_equilibrium = settings.static_equilibrium;
+        report = multibody::consistent_initial_conditions(system, settings.start_time, y, yp, initial);
       }
     catch (const InputError &e)
       {

@@ -230,6 +230,10 @@ InitialConditionReport consistent_initial_conditions(System &system, const doubl
   system.drop_equations(drop);
   report.dropped = system.dropped_equations();
   y.grow_or_shrink(system.size());
+  if (settings.static_equilibrium)
+    {
+      report.equilibrium = solve_static_equilibrium(system, t0, y, settings.equilibrium);
+    }
 
   // Velocities onto B v + Phi_t = 0 (active equations: B has full row rank now)
   system.constraints(t0, y, false, phi, B, phi_t);
@@ -279,6 +283,7 @@ std::string InitialConditionReport::text() const
     s << "  body " << c.body << ": moved " << c.displacement << " m, turned " << c.rotation << " rad"
       << (c.modal > 0 ? ", modal change " + std::to_string(c.modal) : std::string()) << ", velocity change "
       << c.velocity << "\n";
+  s << equilibrium.text();
   for (const auto &d : dropped)
     s << "  redundant: joint " << d.joint << ", equation " << d.equation << " (" << d.description
       << ") dropped; its reaction is not unique\n";

@@ -14,8 +14,12 @@
 //  4. Accelerations and multipliers from the index-1 system
 //       [M B^T; B 0] [v'; lambda] = [Q; gamma],  gamma = -d/dt (B v + Phi_t) at fixed v
 //     (gamma by a central difference in time along q' = T v, step 1e-6 s); q' = T v; mu = 0.
+//  With static_equilibrium, between 2 and 3: the positions are moved to the static equilibrium
+//  at t0 and the velocities set to zero (multibody/static_equilibrium.h); step 3 then gives the
+//  velocities that the drivers prescribe at t0 (zero for drivers at rest).
 #pragma once
 
+#include <multibody/static_equilibrium.h>
 #include <multibody/system.h>
 
 #include <deal.II/lac/vector.h>
@@ -30,6 +34,8 @@ struct InitialConditionSettings
   double tolerance = 1e-11;       ///< max |Phi| [m or -] after projection
   unsigned int max_iterations = 50;
   double rank_tolerance = 1e-8;   ///< relative remainder below which a row is dependent
+  bool static_equilibrium = false; ///< start from the static equilibrium (Multibody/Initial state)
+  EquilibriumSettings equilibrium;
 };
 
 struct BodyCorrection
@@ -47,6 +53,7 @@ struct InitialConditionReport
   std::vector<DroppedEquation> dropped;
   unsigned int iterations = 0;
   double position_residual = 0, velocity_residual = 0;
+  EquilibriumReport equilibrium; ///< solved = false unless asked for
   std::string text() const; ///< several lines for a log
 };
 

@@ -64,6 +64,15 @@ void SimulationSettings::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Flexible bodies rigid", "false", Patterns::Bool(),
                     "Treat every flexible body as rigid with the same mass properties (m, s, J_O; no modes), "
                     "to compare the same scene with and without flexibility [-].");
+  prm.declare_entry("Initial state", "as given", Patterns::Selection("as given|static equilibrium"),
+                    "'as given': the bodies' Position, orientation, Velocity, Angular velocity, Modal "
+                    "coordinates and Modal velocities, made consistent with the joints. 'static equilibrium': "
+                    "the configuration at rest under gravity and the loads and driver positions at the start "
+                    "time (frames, modal coordinates and joint coordinates solved by a damped Newton "
+                    "iteration on M v' = 0 = Q - B^T lambda with the joint equations; the given positions are "
+                    "the first guess, the given velocities are ignored; drivers moving at the start time give "
+                    "their velocity). Refused when there is no equilibrium or it is not unique (a mechanism "
+                    "under these loads) [-].");
   prm.enter_subsection("Integrator");
   IntegratorSettings::declare_parameters(prm);
   prm.leave_subsection();
@@ -80,6 +89,7 @@ SimulationSettings SimulationSettings::parse_parameters(ParameterHandler &prm)
   s.end_time = prm.get_double("End time");
   s.output_interval = prm.get_double("Output interval");
   s.flexible_as_rigid = prm.get_bool("Flexible bodies rigid");
+  s.static_equilibrium = prm.get("Initial state") == "static equilibrium";
   prm.enter_subsection("Integrator");
   s.integrator.parse_parameters(prm);
   prm.leave_subsection();
