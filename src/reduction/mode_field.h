@@ -15,6 +15,10 @@
 //    change is at most (4 b / 27) h |a| (b = 1/4), i.e. 3.7 % of h times the slope jump.
 #pragma once
 
+#include <geometry/curve.h>
+#include <geometry/section_frame.h>
+
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -28,6 +32,13 @@ struct ArmModeData
   std::vector<double> xi;        ///< reference node coordinates in [0, 1], p + 1 (0 and 1 first)
   std::vector<double> positions; ///< undeformed node positions [m]: ((cell (p+1) + j) 3 + d)
   std::vector<double> values;    ///< ((cell (p+1) + j) n_modes + k) 6 + c: (u_x, u_y, u_z, theta_x, theta_y, theta_z)
+  /// The exact centre line y(s) (body axes) and section frame of the arm, for contacts that slide
+  /// along it (multibody track joints); null when the reduced body does not know them.
+  std::shared_ptr<const geometry::Curve> curve;
+  std::shared_ptr<const geometry::SectionFrame> frame;
+  /// The arm's curve and section-frame parameters as parameter-file text (what rebuilds curve and
+  /// frame when the reduced body is read from its file).
+  std::string geometry_parameters;
   unsigned int n_cells() const { return cell_s.size() - 1; }
   double length() const { return cell_s.back(); }
 };
