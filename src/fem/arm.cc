@@ -1,8 +1,12 @@
 #include <fem/arm.h>
 #include <base/text.h>
 #include <base/input_error.h>
+#include <geometry/spline.h>
 
 #include <algorithm>
+#include <cctype>
+#include <functional>
+#include <map>
 #include <sstream>
 
 namespace flextrack::fem
@@ -39,6 +43,93 @@ void check_arm_cell_count(const Arm &arm, const double n_cells, const std::strin
     << static_cast<long>(max_arm_cells) << " cells";
   throw InputError(arm.section_name + "/Mesh/Number of elements", m.str());
 }
+
+namespace
+{
+/// Writes, as parameter-file text, every entry that @p declare declares (in a handler of its
+/// own, so nothing else of @p prm), with the value @p prm holds; @p prm is in the subsection
+/// where @p declare would declare. A top-level subsection is kept only if @p keep says so;
+/// @p replace gives other values for some entries ("Sub/Entry" -> value).
+void print_entries(ParameterHandler &prm, const std::function<void(ParameterHandler &)> &declare,
+                   const std::function<bool(const std::string &)> &keep, const std::map<std::string, std::string> &replace,
+                   std::ostream &out, const std::string &indent)
+{
+  ParameterHandler declared;
+  declare(declared);
+  std::ostringstream skeleton;
+  declared.print_parameters(skeleton, ParameterHandler::ShortPRM);
+  std::istringstream lines(skeleton.str());
+  std::vector<std::string> path; // subsections entered in prm
+  unsigned int skipped = 0;      // depth inside a subsection that is not kept
+  for (std::string line; std::getline(lines, line);)
+    {
+      const std::string t = base::trim(line);
+      const std::string pad = indent + std::string(2 * path.size(), ' ');
+      if (t.rfind("subsection ", 0) == 0)
+        {
+          const std::string name = base::trim(t.substr(11));
+          if (skipped > 0 || (path.empty() && !keep(name)))
+            ++skipped;
+          else
+            {
+              out << pad << "subsection " << name << "\n";
+              prm.enter_subsection(name);
+              path.push_back(name);
+            }
+        }
+      else if (t == "end")
+        {
+          if (skipped > 0)
+            --skipped;
+          else
+            {
+              prm.leave_subsection();
+              path.pop_back();
+              out << indent << std::string(2 * path.size(), ' ') << "end\n";
+            }
+        }
+      else if (t.rfind("set ", 0) == 0 && skipped == 0)
+        {
+          const std::string name = base::trim(t.substr(4, t.find('=') - 4));
+          std::string key;
+          for (const auto &p : path) key += p + "/";
+          const auto r = replace.find(key + name);
+          out << pad << "set " << name << " = " << (r == replace.end() ? prm.get(name) : r->second) << "\n";
+        }
+    }
+}
+
+/// "subsection Curve" (the chosen kind only) as parameter-file text, in the arm's Curve
+/// subsection of @p prm: a spline's points file is read and its points written inline, at full
+/// precision (17 digits read back to the same doubles), so that the text needs no file.
+std::string curve_text(ParameterHandler &prm, const geometry::ParseContext &where)
+{
+  std::string kind = prm.get("Kind");
+  std::map<std::string, std::string> replace;
+  prm.enter_subsection("Spline");
+  std::string file = base::trim(prm.get("Points file"));
+  prm.leave_subsection();
+  if (kind == "spline" && !file.empty())
+    {
+      if (file[0] != '/' && !where.directory.empty()) file = where.directory + "/" + file;
+      std::ostringstream points;
+      points.precision(17);
+      for (const auto &x : geometry::read_points(file, where.section + "/Spline/Points file"))
+        points << (points.tellp() > 0 ? "; " : "") << x[0] << " " << x[1] << " " << x[2];
+      replace = {{"Spline/Points file", ""}, {"Spline/Inline points", points.str()}};
+    }
+  auto same_kind = [&kind](const std::string &subsection) {
+    std::string lower = subsection;
+    for (auto &c : lower) c = std::tolower(static_cast<unsigned char>(c));
+    return lower == kind;
+  };
+  std::ostringstream text;
+  text << "subsection Curve\n";
+  print_entries(prm, geometry::declare_curve_parameters, same_kind, replace, text, "  ");
+  text << "end\n";
+  return text.str();
+}
+} // namespace
 
 void Arm::declare_parameters(ParameterHandler &prm, const std::string &section)
 {
@@ -78,9 +169,14 @@ Arm Arm::parse_parameters(ParameterHandler &prm, const std::string &directory, c
   {
       prm.enter_subsection("Curve");
       arm.curve = geometry::parse_curve(prm, {section + "/Curve", directory});
+      arm.geometry_parameters = curve_text(prm, {section + "/Curve", directory});
       prm.leave_subsection();
       arm.frame = std::make_shared<geometry::SectionFrame>(
         geometry::SectionFrame::parse_parameters(prm, arm.curve, {section, directory}));
+      std::ostringstream frame_text;
+      print_entries(prm, geometry::SectionFrame::declare_parameters, [](const std::string &) { return true; }, {},
+                    frame_text, "");
+      arm.geometry_parameters += frame_text.str();
       arm.material = Material::parse_parameters(prm, section);
       arm.section = CrossSection::parse_parameters(prm, section, arm.material.poisson_ratio);
 

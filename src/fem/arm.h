@@ -40,6 +40,10 @@ struct Arm
   unsigned int n_elements = 16; ///< on the coarsest mesh
   unsigned int degree = 2;      ///< polynomial degree of the beam element, 1..3
   std::string section_name = "Arm"; ///< its subsection ("Arm", or "Arm NAME" in a body), for messages
+  /// Parameter-file text of "subsection Curve" (the chosen kind only) and "subsection Section
+  /// frame" with the values read, self-contained (a spline's points inline, no file names): what
+  /// rebuilds curve and frame exactly, e.g. from a reduced body file. Empty for an arm built in code.
+  std::string geometry_parameters;
 
   /// Declares "subsection @p section" (a body's arms are "Arm NAME").
   static void declare_parameters(dealii::ParameterHandler &prm, const std::string &section = "Arm");

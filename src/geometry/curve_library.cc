@@ -390,18 +390,71 @@ void declare_spline(ParameterHandler &prm)
                     "Text file with one point \"x y z\" [m] per line (blanks or commas; # starts a "
                     "comment), relative to the parameter file's directory. A natural cubic spline in "
                     "chord length interpolates the points. At most 100000 points, each coordinate at most "
-                    "1e6 m in size; at most 64 MiB.");
+                    "1e6 m in size; at most 64 MiB. Give either this or 'Inline points'.");
+  prm.declare_entry("Inline points", "", Anything(),
+                    "The points inline instead of a file: \"x y z; x y z; ...\" [m], blanks or commas between "
+                    "the coordinates of a point, ';' between points (a reduced body file stores its splines "
+                    "so). The same limits as a points file: 2 to 100000 points, consecutive points distinct, "
+                    "each coordinate finite and at most 1e6 m in size. Give either this or 'Points file'.");
   prm.leave_subsection();
 }
+
+/// The points of the "Inline points" entry: "x y z; x y z; ..." (see declare_spline).
+std::vector<Point<3>> inline_points(const std::string &text, const std::string &entry)
+{
+  std::vector<Point<3>> points;
+  for (const auto &item : base::split(text, ';'))
+    {
+      const std::string where = "point " + std::to_string(points.size() + 1);
+      if (points.size() == max_spline_points)
+        throw InputError(entry, "more than " + std::to_string(max_spline_points) + " points; at most " +
+                                  std::to_string(max_spline_points) + " are allowed (a cubic spline needs far fewer)");
+      const auto w = base::words(item);
+      if (w.size() != 3)
+        throw InputError(entry, where + " is not three numbers \"x y z\" [m]: '" + base::printable_excerpt(item) + "'");
+      Point<3> p;
+      for (int d = 0; d < 3; ++d)
+        {
+          p[d] = base::parse_number(w[d], entry, "a coordinate [m] of " + where);
+          if (!(std::abs(p[d]) <= max_coordinate))
+            {
+              std::ostringstream m;
+              m << where << ": coordinate " << p[d] << " m; allowed: coordinates of at most " << max_coordinate
+                << " m in size";
+              throw InputError(entry, m.str());
+            }
+        }
+      points.push_back(p);
+    }
+  if (points.size() < 2)
+    throw InputError(entry, std::to_string(points.size()) + " points; a spline needs at least 2");
+  for (std::size_t i = 1; i < points.size(); ++i)
+    if (points[i].distance(points[i - 1]) == 0)
+      throw InputError(entry, "points " + std::to_string(i) + " and " + std::to_string(i + 1) +
+                                " coincide; consecutive points must differ");
+  return points;
+}
+
 std::shared_ptr<const Curve> create_spline(ParameterHandler &prm, const ParseContext &where)
 {
   prm.enter_subsection("Spline");
-  std::string file = prm.get("Points file");
+  std::string file = base::trim(prm.get("Points file"));
+  const std::string inline_text = prm.get("Inline points");
   prm.leave_subsection();
-  if (!file.empty() && file[0] != '/' && !where.directory.empty())
-    file = where.directory + "/" + file;
-  const std::string entry = where.section + "/Spline/Points file";
-  const auto points = read_points(file, entry);
+  const std::string file_entry = where.section + "/Spline/Points file", points_entry = where.section + "/Spline/Inline points";
+  const bool has_points = !base::trim(inline_text).empty();
+  if (file.empty() == !has_points)
+    throw InputError(file_entry, has_points ? "give either 'Points file' or 'Inline points', not both"
+                                            : "no points: give a 'Points file' or 'Inline points'");
+  const std::string entry = has_points ? points_entry : file_entry;
+  std::vector<Point<3>> points;
+  if (has_points)
+    points = inline_points(inline_text, entry);
+  else
+    {
+      if (file[0] != '/' && !where.directory.empty()) file = where.directory + "/" + file;
+      points = read_points(file, entry);
+    }
   try
     {
       return checked(make_spline_curve(points), entries_of(entry, "give points that are further apart"));
@@ -421,7 +474,7 @@ const std::vector<CurveKind> &curve_kinds()
     {"helix", "circular helix about the z axis", declare_helix, create_helix},
     {"parametric", "type I: x, y, z as expressions in a general parameter t", declare_parametric, create_parametric},
     {"arc length", "type II: x, y, z as expressions in the arc length s", declare_arc_length, create_arc_length},
-    {"spline", "cubic spline through points read from a file", declare_spline, create_spline}};
+    {"spline", "cubic spline through points (read from a file, or given inline)", declare_spline, create_spline}};
   return kinds;
 }
 

@@ -137,6 +137,20 @@ void Hdf5File::set_attribute(const std::string &object, const std::string &name,
     throw std::runtime_error("cannot write attribute '" + name + "' of '" + object + "'");
 }
 
+void Hdf5File::write_text(const std::string &path, const std::string &text)
+{
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, std::max<size_t>(1, text.size()));
+  H5Tset_strpad(type.id, H5T_STR_NULLPAD);
+  Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+  H5Pset_obj_track_times(dcpl.id, false);
+  Handle set{H5Dcreate2(file, path.c_str(), type.id, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT), H5Dclose};
+  const std::string padded = text.empty() ? std::string(1, '\0') : text;
+  if (set.id < 0 || H5Dwrite(set.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()) < 0)
+    throw std::runtime_error("cannot write dataset '" + path + "'");
+}
+
 bool Hdf5File::exists(const std::string &path) const
 {
   // Check each level, as H5Lexists fails on a missing intermediate group.
@@ -288,6 +302,30 @@ std::string Hdf5File::string_attribute(const std::string &object, const std::str
   H5Tset_strpad(memory.id, H5T_STR_NULLPAD);
   std::string value(size, '\0');
   if (H5Aread(a.id, memory.id, value.data()) < 0) throw std::runtime_error("cannot read attribute '" + name + "'");
+  value.erase(value.find_last_not_of('\0') + 1);
+  return value;
+}
+
+std::string Hdf5File::read_text(const std::string &path, const std::size_t max_length) const
+{
+  if (!exists(path)) throw std::runtime_error("dataset '" + path + "' is missing");
+  Handle set{H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose};
+  if (set.id < 0) throw std::runtime_error("'" + path + "' is not a dataset");
+  Handle space{H5Dget_space(set.id), H5Sclose};
+  Handle type{H5Dget_type(set.id), H5Tclose};
+  if (space.id < 0 || type.id < 0 || element_count(space.id) != 1 || H5Tget_class(type.id) != H5T_STRING ||
+      H5Tis_variable_str(type.id) != 0)
+    throw std::runtime_error("dataset '" + path + "' is not a single fixed-length string");
+  const size_t size = H5Tget_size(type.id);
+  if (size == 0 || size > max_length)
+    throw std::runtime_error("dataset '" + path + "' is a string of " + std::to_string(size) + " characters; at most " +
+                             std::to_string(max_length) + " are allowed");
+  Handle memory{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(memory.id, size);
+  H5Tset_strpad(memory.id, H5T_STR_NULLPAD);
+  std::string value(size, '\0');
+  if (H5Dread(set.id, memory.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, value.data()) < 0)
+    throw std::runtime_error("cannot read dataset '" + path + "' (damaged file?)");
   value.erase(value.find_last_not_of('\0') + 1);
   return value;
 }

@@ -31,6 +31,8 @@ public:
   void write(const std::string &path, const std::vector<hsize_t> &shape, const double *data);
   void write(const std::string &path, const std::vector<hsize_t> &shape, const unsigned int *data);
   void set_attribute(const std::string &object, const std::string &name, const std::string &value);
+  /// A text as a scalar dataset of one fixed-length string (an attribute holds at most 64 KiB).
+  void write_text(const std::string &path, const std::string &text);
   void set_attribute(const std::string &object, const std::string &name, long long value);
 
   bool exists(const std::string &path) const;
@@ -46,6 +48,9 @@ public:
   /// Attributes must hold exactly one value of the right class (a scalar or a 1-element array).
   std::string string_attribute(const std::string &object, const std::string &name) const;
   long long integer_attribute(const std::string &object, const std::string &name) const;
+  /// The text dataset at @p path: one fixed-length string (scalar or 1 element) of at most
+  /// @p max_length characters, checked before anything is allocated.
+  std::string read_text(const std::string &path, std::size_t max_length) const;
 
 private:
   void write_raw(const std::string &path, const std::vector<hsize_t> &shape, hid_t file_type, hid_t memory_type,

@@ -3,6 +3,7 @@
 #include <base/input_error.h>
 #include <io/output_folder.h>
 #include <io/reduced_body_file.h>
+#include <reduction/arm_geometry.h>
 
 #include <filesystem>
 
@@ -115,6 +116,7 @@ void write_file(const ReducedBody &b, const std::string &name)
       f.write(g + "/reference_nodes", {arm.xi.size()}, arm.xi.data());
       f.write(g + "/positions", {nodes, 3}, arm.positions.data());
       f.write(g + "/modes", {nodes, n, 6}, arm.values.data());
+      if (!arm.geometry_parameters.empty()) f.write_text(g + "/geometry_parameters", arm.geometry_parameters);
     }
 
   f.create_group("/drawing");
@@ -240,6 +242,19 @@ ReducedBody read_file(const std::string &name)
       const hsize_t count = (cells[0] - 1) * nodes[0];
       arm.positions = f.read_doubles(g + "/positions", {count, 3});
       arm.values = f.read_doubles(g + "/modes", {count, n, 6});
+      // The exact curve and section frame, rebuilt from their text and checked against the
+      // nodes; without the text (an arm built in code) both stay unknown.
+      if (f.exists(g + "/geometry_parameters"))
+        try
+          {
+            arm.geometry_parameters =
+              f.read_text(g + "/geometry_parameters", reduction::max_geometry_parameters_bytes);
+            reduction::rebuild_arm_geometry(arm);
+          }
+        catch (const std::runtime_error &e)
+          {
+            throw std::runtime_error("arm '" + name + "': " + e.what());
+          }
       b.arms.push_back(std::move(arm));
     }
 

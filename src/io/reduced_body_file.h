@@ -12,7 +12,9 @@ namespace flextrack::io
 {
 /// Format tag stored in the root attribute "format".
 inline const std::string reduced_body_format = "FlexTrack reduced body";
-inline constexpr long long reduced_body_format_version = 1;
+/// 2: arms carry "geometry_parameters" (their exact curve and section frame); files of version 1
+/// are refused, so a cached body is reduced again and gains them.
+inline constexpr long long reduced_body_format_version = 2;
 
 void write_reduced_body(const reduction::ReducedBody &body, const std::string &file);
 reduction::ReducedBody read_reduced_body(const std::string &file);

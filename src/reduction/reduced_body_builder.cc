@@ -1,7 +1,10 @@
+#include <base/input_error.h>
+#include <reduction/arm_geometry.h>
 #include <reduction/inertia_invariants_builder.h>
 #include <reduction/reduced_body_builder.h>
 
 #include <algorithm>
+#include <sstream>
 #include <map>
 #include <tuple>
 
@@ -11,6 +14,39 @@ using namespace dealii;
 
 namespace
 {
+/// The arm's exact curve and section frame, and the text that rebuilds them in a reduced body
+/// file; the text is rebuilt here once, so that a file that cannot be read back is never written.
+void set_arm_geometry(const fem::Arm &arm, ArmModeData &d)
+{
+  d.curve = arm.curve;
+  d.frame = arm.frame;
+  d.geometry_parameters = arm.geometry_parameters;
+  if (d.geometry_parameters.empty()) return; // an arm built in code: the file will not know its curve
+  try
+    {
+      const auto rebuilt = parse_arm_geometry(d.geometry_parameters);
+      check_arm_geometry(*rebuilt.curve, d);
+      // The frame follows from the curve and the frame entries; compare it where nodes are.
+      for (unsigned int c = 0; c < d.n_cells(); ++c)
+        for (const double x : d.xi)
+          {
+            const double s = std::min(d.cell_s[c] + x * (d.cell_s[c + 1] - d.cell_s[c]), d.length());
+            if (!((rebuilt.frame->y_axis(s) - d.frame->y_axis(s)).norm() <= 1e-9))
+              {
+                std::ostringstream m;
+                m << "the section frame rebuilt from its parameter text differs from the arm's at s = " << s << " m";
+                throw std::runtime_error(m.str());
+              }
+          }
+    }
+  catch (const std::runtime_error &e)
+    {
+      throw InputError(arm.section_name + "/Curve",
+                       std::string("the curve and section frame cannot be stored in the reduced body as parameter "
+                                   "text (") + e.what() + ")");
+    }
+}
+
 /// Mode fields of arm @p a: FE nodal values of every cell, in order of arc length.
 ArmModeData arm_mode_data(const fem::BodyModel &model, const unsigned int a, const std::vector<Vector<double>> &full)
 {
@@ -45,6 +81,7 @@ ArmModeData arm_mode_data(const fem::BodyModel &model, const unsigned int a, con
         }
     }
   d.cell_s.back() = L;
+  set_arm_geometry(arm.arm(), d);
   return d;
 }
 } // namespace

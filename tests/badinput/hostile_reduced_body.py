@@ -57,6 +57,15 @@ def huge_stiffness(f):
     replace_attribute(f, "/", "n_modes", np.int64(100000))
 
 
+def geometry_text(text):
+    """Replaces the geometry text of the first arm (issue 10: the exact curve and frame)."""
+    def change(f):
+        path = "/arms/" + sorted(f["/arms"].keys())[0] + "/geometry_parameters"
+        value = text(f[path][()].decode()) if callable(text) else text
+        replace_dataset(f, path, np.bytes_(value.encode()))
+    return change
+
+
 # name -> (change, what the one-line message must contain)
 cases = {
     # Item 3: attributes of an unexpected shape or type (SIGSEGV / heap corruption before).
@@ -88,6 +97,16 @@ cases = {
     # Item 2: names that would escape into other tools' inputs.
     "interface_name_with_quote_and_newline": (rename_interface('tip" ; end\nbody: 99'), "a name has 1 to 64 characters"),
     "interface_name_too_long": (rename_interface("a" * 200), "a name has 1 to 64 characters"),
+    # Issue 10: the arm's curve as parameter text, rebuilt and checked against the stored nodes.
+    "geometry_text_of_another_arc": (geometry_text(lambda t: t.replace("set Radius = 0.4", "set Radius = 0.41")),
+                                     "arm 'boom': the curve rebuilt from 'geometry_parameters' .* does not belong"),
+    "geometry_text_includes_a_file": (geometry_text("include /etc/passwd\n"), "arm 'boom': .*includes another file"),
+    "geometry_text_names_a_points_file": (
+        geometry_text("subsection Curve\n set Kind = spline\n subsection Spline\n  set Points file = /etc/passwd\n"
+                      " end\nend\n"), "arm 'boom': .*names a points file"),
+    "geometry_text_9_MiB": (geometry_text("#" * (9 << 20)), "'/arms/boom/geometry_parameters' is a string of 9437184"),
+    "geometry_text_not_a_parameter_file": (geometry_text("\x7fELF binary junk \xff\xfe"),
+                                           "arm 'boom': .*(not a curve|character code)"),
 }
 
 failures = []

@@ -84,10 +84,12 @@ TEMPLATES = {
     "Force": [("x", "{v}; 0; 0")],
     "Torque": [("z", "0; 0; {v}")],
     "Euler parameters": [("p0", "{v}, 0, 0, 0")],
+    "Inline points": [("x", "0 0 0; {v} 1 0")],
 }
 # Context of an entry: (section path as printed, with "Arm" standing for "Arm" and "Arm NAME") ->
 # settings [(path below the arm or top section, entry, value)] that make the scene use the entry.
-CURVE = {"Line": "line", "Arc": "arc", "Helix": "helix", "Parametric": "parametric", "Arc length": "arc length"}
+CURVE = {"Line": "line", "Arc": "arc", "Helix": "helix", "Parametric": "parametric", "Arc length": "arc length",
+         "Spline": "spline"}
 EXPLICIT_SECTION = [(["Cross section"], "Shape", "explicit"), (["Cross section"], "Area", "3e-4"),
                     (["Cross section"], "Iy", "8e-9"), (["Cross section"], "Iz", "8e-9"),
                     (["Cross section"], "Torsion constant", "1.6e-8")]

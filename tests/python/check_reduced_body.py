@@ -10,7 +10,7 @@ import numpy as np
 body, vtu = sys.argv[1], sys.argv[2]
 with h5py.File(body, "r") as f:
     assert f.attrs["format"] == b"FlexTrack reduced body", f.attrs["format"]
-    assert int(f.attrs["format_version"]) == 1
+    assert int(f.attrs["format_version"]) == 2
     n = int(f.attrs["n_modes"])
     K, M, C = f["reduced/stiffness"][...], f["reduced/mass"][...], f["reduced/damping"][...]
     freq = f["reduced/frequencies_hz"][...]
