@@ -170,6 +170,9 @@ int run_command(const Options &options, const io::SceneFile &file)
   multibody::IdaIntegrator ida(system, settings.integrator);
   multibody::Monitors monitors(system);
   ida.initialize(settings.start_time, y, yp);
+  if (system.n_limits()) // the ends of tracks: IDA's root finding stops the run there
+    ida.set_root_functions(system.n_limits(), [&system](double, const Vector<double> &state, const Vector<double> &,
+                                                        double *g) { system.limit_values(state, g); });
   monitors.attach(ida);
   const MonitorValues start = monitors.evaluate(settings.start_time, y);
   recorder.record(settings.start_time, y, start, 0.0);
@@ -205,6 +208,15 @@ int run_command(const Options &options, const io::SceneFile &file)
       }
   }
   progress.finish();
+  for (unsigned int i = 0; i < ida.roots_found().size(); ++i)
+    if (ida.roots_found()[i] != 0 && failure.empty())
+      {
+        Vector<double> state, rate;
+        ida.interpolate(ida.time(), state, rate);
+        std::ostringstream m;
+        m << "at t = " << ida.time() << " s " << system.limit_report(i, state);
+        failure = m.str();
+      }
 
   {
     TimerOutput::Scope t(timer, "write results");

@@ -98,6 +98,26 @@ Vec3 SectionFrame::y_axis(const double s) const
   return Vec3();
 }
 
+Vec3 SectionFrame::y_axis_rate(const CurveGeometry &g, const Vec3 &y) const
+{
+  const Vec3 &t_rate = g.derivative[1]; // t' = y''
+  switch (frame_kind)
+    {
+      case Kind::frenet:
+        return -g.curvature * g.tangent + g.torsion * g.binormal;
+      case Kind::rotation_minimising:
+        return -(y * t_rate) * g.tangent;
+      case Kind::fixed_vector:
+        {
+          // u = r - (r.t) t, d2 = u / |u|:  d2' = (u' - d2 (d2 . u')) / |u|
+          const Vec3 u = project_to_section(reference, g.tangent);
+          const Vec3 u_rate = -(reference * t_rate) * g.tangent - (reference * g.tangent) * t_rate;
+          return (u_rate - (y * u_rate) * y) / u.norm();
+        }
+    }
+  return Vec3();
+}
+
 void SectionFrame::declare_parameters(dealii::ParameterHandler &prm)
 {
   prm.enter_subsection("Section frame");

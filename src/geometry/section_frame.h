@@ -26,6 +26,10 @@ public:
 
   /// Section y axis d2 at arc length s (unit, orthogonal to the tangent).
   Vec3 y_axis(double s) const;
+  /// d(d2)/ds [1/m] at the point of @p g, where the y axis is @p y (= y_axis(g.s)), for a contact
+  /// sliding along the arm: Frenet n' = -k t + tau b; rotation minimising -(d2 . t') t (no twist
+  /// about the tangent, by definition); fixed vector the derivative of the normalised projection.
+  Vec3 y_axis_rate(const CurveGeometry &g, const Vec3 &y) const;
   Kind kind() const { return frame_kind; }
 
   static void declare_parameters(dealii::ParameterHandler &prm);

@@ -24,6 +24,8 @@ GenericJoint::GenericJoint(std::string name, std::unique_ptr<Marker> follower, s
   if (driver == DriverKind::displacement && mask.translation[2])
     throw InputError("Joint " + this->name() + "/Driver", "a displacement driver needs the translation along z to be free");
   if (driver != DriverKind::none && !law) throw InputError("Joint " + this->name() + "/Driver", "needs an expression of t");
+  if (driver == DriverKind::own_coordinate && markers[1]->n_own_coordinates() != 1)
+    throw InputError("Joint " + this->name() + "/Driver", "only a joint on a track can drive the arc length");
   for (unsigned int a = 0; a < 3; ++a)
     if (mask.translation[a]) rows.push_back({RowKind::translation, a, 0, false, std::string("translation along ") + axis_name[a]});
   if (driver == DriverKind::displacement)
@@ -51,12 +53,31 @@ GenericJoint::GenericJoint(std::string name, std::unique_ptr<Marker> follower, s
                       std::string("rotation about ") + axis_name[c] + " (e1_" + axis_name[a] + " . e2_" + axis_name[b] + ")"});
     }
   if (driver == DriverKind::angle) rows.push_back({RowKind::angle, 0, 0, false, "driven angle about z"});
+  if (driver == DriverKind::own_coordinate) rows.push_back({RowKind::own, 0, 0, true, "driven arc length s"});
 }
 
-void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const double t, Local &l, Vector<double> &phi,
-                                 Vector<double> &phi_t) const
+unsigned int GenericJoint::n_own_coordinates() const
 {
-  for (unsigned int m = 0; m < 2; ++m) markers[m]->evaluate(q[m], nullptr, l.k[m]);
+  return markers[0]->n_own_coordinates() + markers[1]->n_own_coordinates();
+}
+
+void GenericJoint::initial_own_coordinates(double *q, double *v) const
+{
+  const unsigned int n0 = markers[0]->n_own_coordinates();
+  if (n0) markers[0]->initial_own_coordinates(q, v);
+  if (markers[1]->n_own_coordinates()) markers[1]->initial_own_coordinates(q + n0, v + n0);
+}
+
+const double *GenericJoint::own_of(const unsigned int m, const double *own_q) const
+{
+  if (!markers[m]->n_own_coordinates()) return nullptr;
+  return own_q + (m == 0 ? 0 : markers[0]->n_own_coordinates());
+}
+
+void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const double *own_q, const double t, Local &l,
+                                 Vector<double> &phi, Vector<double> &phi_t) const
+{
+  for (unsigned int m = 0; m < 2; ++m) markers[m]->evaluate(q[m], own_of(m, own_q), l.k[m]);
   const MarkerKinematics &ki = l.k[0], &kj = l.k[1];
   const Vector3 d = ki.position - kj.position;
   phi.reinit(rows.size());
@@ -93,22 +114,30 @@ void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const dou
               g[6] = c * ki.axes[0];
               break;
             }
+          case RowKind::own: // s - s(t): no marker gradient; its B_own entry is set in evaluate()
+            phi[r] = own_of(1, own_q)[0] - s.value();
+            phi_t[r] = -s.derivative(1);
+            break;
         }
     }
 }
 
-void GenericJoint::evaluate(const std::vector<const double *> &q, const double *, const double t, JointEvaluation &e) const
+void GenericJoint::evaluate(const std::vector<const double *> &q, const double *own_q, const double t,
+                            JointEvaluation &e) const
 {
   Local l;
-  evaluate_rows(q, t, l, e.phi, e.phi_t);
+  evaluate_rows(q, own_q, t, l, e.phi, e.phi_t);
   e.B.resize(2);
+  e.B_own.reinit(rows.size(), n_own_coordinates());
+  unsigned int own_column = 0;
   for (unsigned int m = 0; m < 2; ++m)
     {
+      // The marker's columns: its body's velocities, then its own coordinates (into B_own).
       const MarkerKinematics &k = l.k[m];
-      const unsigned int nv = k.J_position.n();
+      const unsigned int nv = markers[m]->body().n_v(), n_own = markers[m]->n_own_coordinates();
       e.B[m].reinit(rows.size(), nv);
       for (unsigned int r = 0; r < rows.size(); ++r)
-        for (unsigned int c = 0; c < nv; ++c)
+        for (unsigned int c = 0; c < nv + n_own; ++c)
           {
             double v = 0;
             for (unsigned int a = 0; a < 3; ++a)
@@ -116,20 +145,22 @@ void GenericJoint::evaluate(const std::vector<const double *> &q, const double *
                 v += l.grad[r][4 * m][a] * k.J_position(a, c);
                 for (unsigned int x = 0; x < 3; ++x) v += l.grad[r][4 * m + 1 + x][a] * k.J_axes[x](a, c);
               }
-            e.B[m](r, c) = v;
+            (c < nv ? e.B[m](r, c) : e.B_own(r, own_column + c - nv)) = v;
           }
+      own_column += n_own;
     }
-  e.B_own.reinit(rows.size(), 0);
+  for (unsigned int r = 0; r < rows.size(); ++r)
+    if (rows[r].kind == RowKind::own) e.B_own(r, markers[0]->n_own_coordinates()) = 1;
 }
 
-void GenericJoint::reaction(const std::vector<const double *> &q, const double *, const double t, const double *lambda, Vector3 &force,
-                            Vector3 &torque) const
+void GenericJoint::reaction(const std::vector<const double *> &q, const double *own_q, const double t,
+                            const double *lambda, Vector3 &force, Vector3 &torque) const
 {
   // Generalised constraint force -B^T lambda = J_r^T F + J_w^T T at the follower marker, with
   // F = -sum lambda dPhi/dr_i and T = -sum lambda sum_a e_a x dPhi/de_a (e_a' = omega x e_a).
   Local l;
   Vector<double> phi, phi_t;
-  evaluate_rows(q, t, l, phi, phi_t);
+  evaluate_rows(q, own_q, t, l, phi, phi_t);
   force = torque = Vector3();
   for (unsigned int r = 0; r < rows.size(); ++r)
     {

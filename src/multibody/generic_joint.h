@@ -5,10 +5,13 @@
 //                          two (a, b; c free)  e_i,c.e_j,a, e_i,c.e_j,b       (axis c stays aligned)
 //                          one (c)  e_i,a.e_j,b                              (the cross of a universal)
 //   driven angle about z:  e_i,x . (-sin th(t) e_j,x + cos th(t) e_j,y) = 0   (= sin(angle - th))
+//   driven own coordinate: s - s(t) = 0                  (a track contact's arc length)
 // Each row is a function of the 24 marker quantities x = (r_i, e_i,1..3, r_j, e_j,1..3); its
 // gradient times the markers' Jacobians gives B, and the same gradient gives the reactions.
 // Fixed, revolute, spherical, prismatic, cylindrical, universal, planar and point-in-plane are
-// masks (joint_table.cc).
+// masks (joint_table.cc). Markers may own coordinates (a track contact owns its arc length s,
+// multibody/track_marker.h): the joint carries them, marker 1's first, and their Jacobian
+// columns form B_own.
 #pragma once
 
 #include <geometry/expression.h>
@@ -25,7 +28,7 @@ struct JointMask
   std::array<bool, 3> rotation{{true, true, true}};    ///< locked rotations (base axes)
 };
 
-enum class DriverKind { none, angle, displacement };
+enum class DriverKind { none, angle, displacement, own_coordinate };
 
 class GenericJoint : public Joint
 {
@@ -37,17 +40,22 @@ public:
                DriverKind driver = DriverKind::none, std::shared_ptr<const geometry::Expression> law = nullptr);
 
   unsigned int n_equations() const override { return rows.size(); }
+  unsigned int n_own_coordinates() const override;
+  void initial_own_coordinates(double *q, double *v) const override;
   std::vector<const Body *> bodies() const override { return {&markers[0]->body(), &markers[1]->body()}; }
   void evaluate(const std::vector<const double *> &q, const double *own_q, double t, JointEvaluation &e) const override;
   std::string equation_name(unsigned int k) const override { return rows[k].name; }
-  bool is_driver_equation(unsigned int k) const override { return rows[k].kind == RowKind::angle || rows[k].driven; }
+  bool is_driver_equation(unsigned int k) const override
+  {
+    return rows[k].kind == RowKind::angle || rows[k].kind == RowKind::own || rows[k].driven;
+  }
   void reaction(const std::vector<const double *> &q, const double *own_q, double t, const double *lambda, Vector3 &force,
                 Vector3 &torque) const override;
 
   const Marker &marker(unsigned int i) const { return *markers[i]; }
 
 private:
-  enum class RowKind { translation, rotation, angle };
+  enum class RowKind { translation, rotation, angle, own };
   struct Row
   {
     RowKind kind;
@@ -62,8 +70,10 @@ private:
     MarkerKinematics k[2];
     std::vector<Gradient> grad;
   };
-  void evaluate_rows(const std::vector<const double *> &q, double t, Local &l, dealii::Vector<double> &phi,
-                     dealii::Vector<double> &phi_t) const;
+  void evaluate_rows(const std::vector<const double *> &q, const double *own_q, double t, Local &l,
+                     dealii::Vector<double> &phi, dealii::Vector<double> &phi_t) const;
+  /// Own coordinates of marker @p m within the joint's (nullptr if it has none).
+  const double *own_of(unsigned int m, const double *own_q) const;
 
   std::unique_ptr<Marker> markers[2];
   std::vector<Row> rows;

@@ -48,6 +48,22 @@ public:
   virtual std::string equation_name(unsigned int k) const { return "equation " + std::to_string(k); }
   /// Is equation @p k rheonomic (a driver): its reaction does work.
   virtual bool is_driver_equation(unsigned int) const { return false; }
+  /// Generalised forces on the joint's own coordinates at own positions @p own_q and rates
+  /// @p own_v (a track contact's tangential drive force and viscous friction [N]), split into the
+  /// applied part (its work counts as applied) and the dissipative part (its work is dissipated).
+  /// Each is an array of n_own_coordinates(); both start at zero.
+  virtual void own_forces(const double * /*own_q*/, const double * /*own_v*/, double /*t*/, double * /*applied*/,
+                          double * /*dissipative*/) const
+  {}
+  /// Limits of the own coordinates: functions that are positive while the joint is valid (a
+  /// track contact: s and L - s). The integrator stops where one reaches zero.
+  virtual unsigned int n_limits() const { return 0; }
+  virtual void limits(const double * /*own_q*/, double * /*g*/) const {}
+  /// One sentence on limit @p k reached at own coordinates @p own_q, rates @p own_v.
+  virtual std::string limit_report(unsigned int k, const double * /*own_q*/, const double * /*own_v*/) const
+  {
+    return "joint '" + name() + "' reached its limit " + std::to_string(k);
+  }
   /// Force [N] and torque [N m] (global) that the joint exerts on the first body at its marker,
   /// for multipliers @p lambda (all m equations; dropped ones zero).
   virtual void reaction(const std::vector<const double *> &q, const double *own_q, double t, const double *lambda,

@@ -4,6 +4,10 @@
 #include <base/text.h>
 #include <multibody/generic_joint.h>
 #include <multibody/joint_table.h>
+#include <multibody/track_joint.h>
+#include <geometry/curve_library.h>
+
+#include <sstream>
 
 namespace flextrack::multibody
 {
@@ -94,6 +98,114 @@ std::unique_ptr<Joint> make_mask_joint(const std::string &name, ParameterHandler
   return std::make_unique<GenericJoint>(name, std::move(m[0]), std::move(m[1]), mask, driver, law);
 }
 
+std::string number_text(const double x)
+{
+  std::ostringstream m;
+  m << x;
+  return m.str();
+}
+
+/// The arm called @p arm of body @p b, with its geometry; InputError naming @p prefix + "Arm".
+const reduction::ArmModeData &track_arm(const Body &b, const std::string &arm, const std::string &prefix)
+{
+  const auto *floating = dynamic_cast<const FloatingBody *>(&b);
+  const reduction::ReducedBody *reduced = floating ? floating->source() : nullptr;
+  if (!reduced)
+    throw InputError(prefix + "Body 2", "body '" + b.name() + "' has no arms to slide along (only a flexible body, "
+                                        "or one made rigid, has arms)");
+  std::string allowed;
+  for (const auto &a : reduced->arms)
+    {
+      if (a.name == arm)
+        {
+          if (!a.curve || !a.frame)
+            throw InputError(prefix + "Arm", "the reduced body of '" + b.name() + "' does not store the geometry of arm '" +
+                                               arm + "' (a file written before tracks existed): reduce it again");
+          return a;
+        }
+      allowed += (allowed.empty() ? "" : ", ") + a.name;
+    }
+  throw InputError(prefix + "Arm", "body '" + b.name() + "' has no arm '" + base::printable_excerpt(arm) + "'; allowed: " +
+                                     (allowed.empty() ? "none (it has no arms)" : allowed));
+}
+
+std::unique_ptr<Joint> make_track_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,
+                                        const JointMask &mask)
+{
+  const std::string prefix = "Joint " + name + "/";
+  const Body &slider = body_entry(prm, "Body 1", prefix, bodies), &carrier = body_entry(prm, "Body 2", prefix, bodies);
+  if (&slider == &carrier) throw InputError(prefix + "Body 2", "joins body '" + slider.name() + "' to itself");
+  const reduction::ArmModeData &arm = track_arm(carrier, base::trim(prm.get("Arm")), prefix);
+  const double L = arm.curve->length();
+
+  TrackSliding sliding;
+  const std::string drive = prm.get("Sliding");
+  sliding.drive = drive == "force" ? TrackDrive::force : drive == "motion" ? TrackDrive::motion : TrackDrive::free;
+  sliding.friction = geometry::get_number(prm, "Friction", prefix, {0, 1e12, true, "N s/m"});
+  const std::string law_text = base::trim(prm.get("Driver"));
+  if (sliding.drive != TrackDrive::free)
+    {
+      if (law_text.empty())
+        throw InputError(prefix + "Driver", "Sliding = " + drive + " needs an expression of t: the " +
+                                              (sliding.drive == TrackDrive::force ? "tangential force [N]" : "arc length [m]"));
+      try
+        {
+          sliding.law = std::make_shared<geometry::Expression>(law_text, "t");
+        }
+      catch (const geometry::ExpressionError &e)
+        {
+          throw InputError(prefix + "Driver", e.what());
+        }
+    }
+  else if (!law_text.empty())
+    throw InputError(prefix + "Driver", "a freely sliding contact takes no driver; set 'Sliding = force' or 'motion'");
+
+  double s0 = geometry::get_number(prm, "Start arc length", prefix, {0, 1e6, true, "m"});
+  double s0_rate = geometry::get_number(prm, "Start speed", prefix, {-1e6, 1e6, true, "m/s"});
+  if (sliding.drive == TrackDrive::motion) // the drive decides where the contact starts
+    {
+      const geometry::Jet start = sliding.law->jet(0.0);
+      s0 = start.value();
+      s0_rate = start.derivative(1);
+      if (!(s0 >= 0 && s0 <= L))
+        throw InputError(prefix + "Driver", "puts the contact at s = " + number_text(s0) + " m at t = 0, off arm '" +
+                                              arm.name + "' (0 to " + number_text(L) + " m)");
+    }
+  else if (s0 > L)
+    throw InputError(prefix + "Start arc length", number_text(s0) + " m is beyond the end of arm '" + arm.name +
+                                                    "' (" + number_text(L) + " m)");
+
+  auto field = carrier.n_modes() ? std::make_shared<reduction::ArmModeField>(arm) : nullptr;
+  auto track = std::make_unique<TrackMarker>(carrier, name + "_track", arm.curve, arm.frame, field, s0, s0_rate);
+  // The slider's marker: at the contact's initial place, with the contact's axes.
+  std::vector<double> q2(carrier.n_q()), v2(carrier.n_v()), q1(slider.n_q()), v1(slider.n_v());
+  carrier.initial_coordinates(q2.data(), v2.data());
+  slider.initial_coordinates(q1.data(), v1.data());
+  MarkerKinematics k;
+  track->evaluate(q2.data(), &s0, k);
+  Matrix3 axes;
+  for (unsigned int a = 0; a < 3; ++a)
+    for (unsigned int b = 0; b < 3; ++b) axes[b][a] = k.axes[a][b];
+  std::unique_ptr<Marker> follower;
+  try
+    {
+      follower = FixedMarker::at_global_pose(slider, name + "_slider", k.position, axes, q1.data(),
+                                             base::trim(prm.get("Interface 1")));
+    }
+  catch (const InputError &e)
+    {
+      throw InputError(prefix + "Interface 1", e.message());
+    }
+  return std::make_unique<TrackJoint>(name, std::move(follower), std::move(track), mask, sliding);
+}
+
+JointKind track_kind(const std::string &name, const std::string &doc, const JointMask mask)
+{
+  return {name, doc, [mask](const std::string &n, ParameterHandler &prm, const BodyLookup &b) {
+            return make_track_joint(n, prm, b, mask);
+          }};
+}
+
 JointKind mask_kind(const std::string &name, const std::string &doc, const JointMask mask,
                     const DriverKind drivable = DriverKind::none)
 {
@@ -119,6 +231,12 @@ const std::vector<JointKind> &joint_kinds()
     mask_kind("planar", "translations along x, y and rotation about z free", M{{{false, false, true}}, {{true, true, false}}}),
     mask_kind("point_in_plane", "the point of body 1 stays in the x-y plane of body 2",
               M{{{false, false, true}}, {{false, false, false}}}),
+    track_kind("point_on_track", "a point of body 1 on arm 'Arm' of body 2 at arc length s (a bead): sliding and all "
+                                 "rotations free", M{{{true, true, true}}, {{false, false, false}}}),
+    track_kind("cylindrical_on_track", "body 1 slides along arm 'Arm' of body 2 and spins about its tangent (a sleeve)",
+               M{{{true, true, true}}, {{true, true, false}}}),
+    track_kind("prismatic_on_track", "body 1 slides along arm 'Arm' of body 2 with its frame locked to the arm's "
+                                     "section frame (a slider)", M{{{true, true, true}}, {{true, true, true}}}),
   };
   return kinds;
 }
@@ -146,7 +264,20 @@ void declare_joint_parameters(ParameterHandler &prm)
   prm.declare_entry("Interface 2", "", Patterns::Anything(), "Interface of body 2 (flexible); empty: the joint position [-].");
   prm.declare_entry("Driver", "", Patterns::Anything(),
                     "Prescribed motion as an expression of t [s]: revolute angle about z [rad], prismatic "
-                    "displacement along z [m], from the initial configuration; empty: free.");
+                    "displacement along z [m], from the initial configuration; empty: free. Track joints: the "
+                    "tangential force on body 1 [N] (Sliding = force) or the arc length s(t) [m] (Sliding = motion).");
+  prm.declare_entry("Arm", "", Patterns::Anything(), "Track joints: the arm of body 2 that the contact slides along [-].");
+  prm.declare_entry("Start arc length", "0", Patterns::Double(),
+                    "Track joints: arc length s of the contact at the start [m], 0 to the arm's length (Sliding = "
+                    "motion: taken from the driver at t = 0).");
+  prm.declare_entry("Start speed", "0", Patterns::Double(),
+                    "Track joints: sliding speed s' at the start [m/s], at most 1e6 in size (made consistent with "
+                    "the bodies' velocities at the start).");
+  prm.declare_entry("Sliding", "free", Patterns::Selection("free|force|motion"),
+                    "Track joints: 'free' (only friction along the track), 'force' (a tangential force, Driver), "
+                    "or 'motion' (s prescribed, Driver).");
+  prm.declare_entry("Friction", "0", Patterns::Double(),
+                    "Track joints: viscous friction along the track, force = -c s' [N s/m], 0 to 1e12.");
 }
 
 std::unique_ptr<Joint> create_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies)

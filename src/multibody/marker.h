@@ -38,6 +38,8 @@ public:
   const std::string &name() const { return marker_name; }
   /// Coordinates that the marker adds (a joint using it carries them); 0 for a fixed marker.
   virtual unsigned int n_own_coordinates() const { return 0; }
+  /// Initial values of the own coordinates and their rates.
+  virtual void initial_own_coordinates(double * /*q*/, double * /*v*/) const {}
   /// Position, axes and Jacobians for body coordinates @p q, and own coordinates @p own.
   virtual void evaluate(const double *q, const double *own, MarkerKinematics &k) const = 0;
 

@@ -18,6 +18,10 @@ Powers Monitors::powers(const double t, const Vector<double> &y) const
     }
   for (unsigned int b = 1; b < system.n_bodies(); ++b)
     p.dissipation += system.body(b).dissipation_power(system.q_of(b, y), system.v_of(b, y));
+  double own_applied, own_dissipated; // track drive forces and friction
+  system.own_force_powers(t, y, own_applied, own_dissipated);
+  p.applied += own_applied;
+  p.dissipation += own_dissipated;
   Vector<double> phi, phi_t;
   FullMatrix<double> B;
   system.constraints(t, y, false, phi, B, phi_t);

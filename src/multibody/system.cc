@@ -298,6 +298,12 @@ void System::joint_residual(const unsigned int j, const double t, const Vector<d
   for (unsigned int c = 0; c < n_q_cols; ++c) // Phi_q^T mu
     for (unsigned int r = 0; r < m; ++r) out[c] += Phi_q(r, c) * mu[r];
   for (unsigned int i = 0; i < n_own; ++i) out[n_q_cols - n_own + i] += yp[s.own_q + i] - y[nq + s.own_v + i];
+  if (n_own) // - Q_own in the own velocity rows
+    {
+      std::vector<double> applied(n_own, 0.0), dissipative(n_own, 0.0);
+      s.joint->own_forces(y.begin() + s.own_q, y.begin() + nq + s.own_v, t, applied.data(), dissipative.data());
+      for (unsigned int i = 0; i < n_own; ++i) out[n_q_cols + n_v_cols - n_own + i] -= applied[i] + dissipative[i];
+    }
   // B^T lambda into the v rows, B v + Phi_t, Phi
   unsigned int col = 0;
   std::vector<double> Bv(m, 0.0);

@@ -119,6 +119,14 @@ public:
   /// q' = T(q) v.
   void coordinate_rates(const dealii::Vector<double> &y, dealii::Vector<double> &q_dot) const;
 
+  // Limits of joints (the ends of tracks): functions positive while every joint is valid
+  unsigned int n_limits() const;
+  void limit_values(const dealii::Vector<double> &y, double *g) const;
+  /// The sentence on limit @p i (of n_limits()) reached at @p y.
+  std::string limit_report(unsigned int i, const dealii::Vector<double> &y) const;
+  /// Of the joints' own forces at (t, y): power of the applied part, dissipated power (>= 0) [W].
+  void own_force_powers(double t, const dealii::Vector<double> &y, double &applied, double &dissipated) const;
+
   // Pointers to one body's or joint's coordinates in y
   const double *q_of(unsigned int b, const dealii::Vector<double> &y) const { return bodies[b].body->n_q() ? y.begin() + bodies[b].q : nullptr; }
   const double *v_of(unsigned int b, const dealii::Vector<double> &y) const { return bodies[b].body->n_v() ? y.begin() + nq + bodies[b].v : nullptr; }

@@ -34,6 +34,60 @@ void System::generalized_forces(const double t, const Vector<double> &y, Vector<
       for (const unsigned int b : forces[f].body_index) Qb.push_back(bodies[b].body->n_v() ? &Q[bodies[b].v] : nullptr);
       forces[f].force->add_forces(force_q(f, y), force_v(f, y), t, Qb);
     }
+  for (const auto &j : joints)
+    {
+      const unsigned int n_own = j.joint->n_own_coordinates();
+      if (!n_own) continue;
+      std::vector<double> applied(n_own, 0.0), dissipative(n_own, 0.0);
+      j.joint->own_forces(y.begin() + j.own_q, y.begin() + nq + j.own_v, t, applied.data(), dissipative.data());
+      for (unsigned int i = 0; i < n_own; ++i) Q[j.own_v + i] += applied[i] + dissipative[i];
+    }
+}
+
+void System::own_force_powers(const double t, const Vector<double> &y, double &applied_power,
+                              double &dissipated_power) const
+{
+  applied_power = dissipated_power = 0;
+  for (const auto &j : joints)
+    {
+      const unsigned int n_own = j.joint->n_own_coordinates();
+      if (!n_own) continue;
+      std::vector<double> applied(n_own, 0.0), dissipative(n_own, 0.0);
+      const double *v = y.begin() + nq + j.own_v;
+      j.joint->own_forces(y.begin() + j.own_q, v, t, applied.data(), dissipative.data());
+      for (unsigned int i = 0; i < n_own; ++i)
+        {
+          applied_power += applied[i] * v[i];
+          dissipated_power -= dissipative[i] * v[i];
+        }
+    }
+}
+
+unsigned int System::n_limits() const
+{
+  unsigned int n = 0;
+  for (const auto &j : joints) n += j.joint->n_limits();
+  return n;
+}
+
+void System::limit_values(const Vector<double> &y, double *g) const
+{
+  for (const auto &j : joints)
+    if (j.joint->n_limits())
+      {
+        j.joint->limits(y.begin() + j.own_q, g);
+        g += j.joint->n_limits();
+      }
+}
+
+std::string System::limit_report(unsigned int i, const Vector<double> &y) const
+{
+  for (const auto &j : joints)
+    {
+      if (i < j.joint->n_limits()) return j.joint->limit_report(i, y.begin() + j.own_q, y.begin() + nq + j.own_v);
+      i -= j.joint->n_limits();
+    }
+  return "limit " + std::to_string(i);
 }
 
 std::vector<std::pair<unsigned int, unsigned int>> System::constraint_rows(const bool all_equations) const

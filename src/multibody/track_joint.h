@@ -1,0 +1,51 @@
+// Joints on a track: a contact (multibody/track_marker.h) at arc length s on an arm of body 2,
+// and a marker of body 1 (the slider) held to it by the generic joint's rows:
+//   point_on_track        the slider's point stays on the deformed centre line (a bead): 3 rows;
+//   cylindrical_on_track  also its z axis along the deformed tangent (spin about it free): 5 rows;
+//   prismatic_on_track    its frame locked to the deformed section frame: 6 rows.
+// s is the joint's own coordinate. It has no inertia and needs none (the slider carries the
+// mass; the saddle-point matrix stays regular because M is positive on the null space of the
+// constraints): its velocity row reads  B_s^T lambda = Q_s, i.e. the tangential contact force on
+// the slider equals Q_s, the force the scene puts between slider and track:
+//   free    Q_s = -c s'            (viscous friction c [N s/m], 0 by default)
+//   force   Q_s = F(t) - c s'      (a tangential drive force F [N], an expression of t)
+//   motion  s = s_d(t)             (a driver row; s_d an expression of t [m])
+// The ends of the track are limits (s = 0, s = L): the integrator stops there and the run
+// reports the time, the joint, s and the speed.
+#pragma once
+
+#include <geometry/expression.h>
+#include <multibody/generic_joint.h>
+#include <multibody/track_marker.h>
+
+#include <memory>
+
+namespace flextrack::multibody
+{
+enum class TrackDrive { free, force, motion };
+
+struct TrackSliding
+{
+  TrackDrive drive = TrackDrive::free;
+  std::shared_ptr<const geometry::Expression> law; ///< F(t) [N] or s_d(t) [m]
+  double friction = 0;                             ///< viscous coefficient c [N s/m]
+};
+
+class TrackJoint : public GenericJoint
+{
+public:
+  TrackJoint(std::string name, std::unique_ptr<Marker> slider, std::unique_ptr<TrackMarker> track,
+             const JointMask &mask, const TrackSliding &sliding);
+
+  void own_forces(const double *own_q, const double *own_v, double t, double *applied,
+                  double *dissipative) const override;
+  unsigned int n_limits() const override { return 2; }
+  void limits(const double *own_q, double *g) const override;
+  std::string limit_report(unsigned int k, const double *own_q, const double *own_v) const override;
+
+  const TrackMarker &track() const { return static_cast<const TrackMarker &>(marker(1)); }
+
+private:
+  TrackSliding sliding;
+};
+} // namespace flextrack::multibody

