@@ -295,3 +295,35 @@ TEST(ArmGeometry, spline_points_inline_equal_the_points_file_and_are_range_check
           << e.what();
       }
 }
+
+TEST(ArmGeometry, text_of_expression_curves_with_constants_rebuilds_the_same_curve)
+{
+  // The text is written by walking the declared entries (fem::Arm::parse_parameters): a kind
+  // whose subsection name has two words ("Arc length") and its Constants come along, the
+  // other kinds' subsections do not. Reference: the arm's own curve, equal to 1e-12 L
+  // (measured 0: same code, same numbers).
+  for (const std::string &kind : {"arc length", "parametric"})
+    {
+      dealii::ParameterHandler prm;
+      fem::Arm::declare_parameters(prm);
+      const std::string curve =
+        kind == "arc length"
+          ? " set Kind = arc length\n subsection Arc length\n  set Constants = a=0.5, c=0.1\n"
+            "  set x(s) = a*cos(s/sqrt(a^2+c^2))\n  set y(s) = a*sin(s/sqrt(a^2+c^2))\n"
+            "  set z(s) = c*s/sqrt(a^2+c^2)\n  set Length = 2.5\n end\n"
+          : " set Kind = parametric\n subsection Parametric\n  set x(t) = 2*cos(t)\n  set y(t) = sin(t)\n"
+            "  set z(t) = 0.1*t^2\n  set Parameter end = 3\n end\n";
+      prm.parse_input_from_string("subsection Arm\n subsection Curve\n" + curve + " end\nend\n");
+      const auto arm = fem::Arm::parse_parameters(prm, ".");
+      EXPECT_NE(arm.geometry_parameters.find("set Kind = " + kind), std::string::npos) << arm.geometry_parameters;
+      EXPECT_EQ(arm.geometry_parameters.find("subsection Helix"), std::string::npos) << arm.geometry_parameters;
+      const auto rebuilt = reduction::parse_arm_geometry(arm.geometry_parameters);
+      const double L = arm.curve->length();
+      ASSERT_EQ(rebuilt.curve->length(), L);
+      double error = 0;
+      for (unsigned int i = 0; i < 50; ++i)
+        error = std::max(error, (rebuilt.curve->position(L * i / 49) - arm.curve->position(L * i / 49)).norm());
+      std::cout << kind << ": L = " << L << " m, position difference " << error << " m\n";
+      EXPECT_LE(error, 1e-12 * L) << kind;
+    }
+}
