@@ -37,6 +37,10 @@ int converge_command(const Options &options, const io::SceneFile &file);
 /// Reduce the flexible body of a "Model = body" scene: reduced_body.h5 (cached), frequencies.csv,
 /// summary.json, and the exports of Output/Export formats.
 int reduce_command(const Options &options, const io::SceneFile &file);
+/// Linear statics of an arm or solid scene under its load cases (Static/Load cases): displacements and
+/// rotations at the report points, reactions against the applied loads, strain energy;
+/// static.csv, summary.json, parameters_used.prm.
+int static_command(const Options &options, const io::SceneFile &file);
 /// Export a reduced body file for another tool (--format).
 int export_command(const Options &options);
 /// Print what a reduced body file holds (checks it thoroughly).

@@ -38,6 +38,8 @@ Usage:
                                      and observed order of convergence of every frequency
   flextrack reduce FILE.prm [-o DIR] reduce the flexible body of a 'Model = body' scene to
                                      DIR/reduced_body.h5 (reused while its inputs are unchanged)
+  flextrack static FILE.prm [-o DIR] linear static solution of an arm or solid under the scene's
+                                     load cases: displacements, reactions, strain energy
   flextrack inspect BODY.h5          print what a reduced body file holds
   flextrack export --format FORMAT BODY.h5 [-o DIR]
                                      the reduced body for other tools: 'mbdyn' (BODY.fem modal
@@ -53,6 +55,7 @@ Results go to DIR (default: output/<FILE name without extension>/):
   convergence.csv, convergence.png   (converge)
   probes.csv, monitors.csv, results.h5   (run: probe positions and velocities, constraint
                     residuals and energy balance, the full state; written up to a solver failure)
+  static.csv        load case, arc length, position, displacement, rotation (static)
   reduced_body.h5   reduced matrices, inertia invariants, interface and arm mode fields (reduce;
                     layout in doc/reduced_body_file.md)
 Exit status: 0 success, 1 usage error, 2 bad input, 3 solver failure, 4 internal error.
@@ -143,6 +146,7 @@ const std::vector<Command> &commands()
                                           {"modes", true, scene_dispatch, nullptr},
                                           {"converge", true, converge_command, nullptr},
                                           {"reduce", true, reduce_command, nullptr},
+                                          {"static", true, static_command, nullptr},
                                           {"inspect", false, nullptr, inspect_command},
                                           {"export", false, nullptr, export_command}};
   return table;
@@ -220,7 +224,7 @@ int dispatch(std::vector<std::string> args, int *argc, char ***argv)
   const auto row = std::find_if(table.begin(), table.end(), [&](const Command &c) { return command == c.name; });
   if (row == table.end())
     return usage_error("unknown command '" + flextrack::base::printable_excerpt(command) +
-                       "'; allowed: run, linearize, modes, converge, reduce, inspect, export, print-parameters");
+                       "'; allowed: run, linearize, modes, converge, reduce, static, inspect, export, print-parameters");
   Options options;
   if (const auto problem = parse_options(command, args, options); !problem.empty()) return usage_error(problem);
   if (row->needs_mpi) start_mpi(argc, argv);

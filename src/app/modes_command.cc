@@ -6,6 +6,7 @@
 #include <base/external_program.h>
 #include <base/input_error.h>
 #include <fem/curved_beam_model.h>
+#include <fem/load_case.h>
 #include <fem/solid_model.h>
 #include <io/arm_scene.h>
 #include <io/body_scene.h>
@@ -299,6 +300,8 @@ int print_parameters_command()
   ParameterHandler prm;
   io::declare_body_scene(prm, {"NAME"});
   fem::Arm::declare_parameters(prm);
+  fem::StaticSettings::declare_parameters(prm);
+  fem::LoadCase::declare_parameters(prm, {"NAME"});
   prm.print_parameters(std::cout, ParameterHandler::PRM);
   return 0;
 }

@@ -241,7 +241,7 @@ Vector<double> CurvedBeamModel::point_load(const double s, const Tensor<1, 3> &F
   return f;
 }
 
-Tensor<1, 3> CurvedBeamModel::displacement_at(const double s, const Vector<double> &u) const
+Tensor<1, 3> CurvedBeamModel::field_at(const double s, const Vector<double> &u, const unsigned int c0) const
 {
   const auto [cell, xi] = locate(s);
   std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
@@ -250,8 +250,87 @@ Tensor<1, 3> CurvedBeamModel::displacement_at(const double s, const Vector<doubl
   for (unsigned int i = 0; i < local.size(); ++i)
     {
       const unsigned int c = fe.system_to_component_index(i).first;
-      if (c < 3) d[c] += u[local[i]] * fe.shape_value_component(i, Point<1>(xi), c);
+      if (c >= c0 && c < c0 + 3) d[c - c0] += u[local[i]] * fe.shape_value_component(i, Point<1>(xi), c);
     }
   return d;
+}
+
+Tensor<1, 3> CurvedBeamModel::displacement_at(const double s, const Vector<double> &u) const { return field_at(s, u, 0); }
+
+Tensor<1, 3> CurvedBeamModel::rotation_at(const double s, const Vector<double> &u) const { return field_at(s, u, 3); }
+
+void CurvedBeamModel::add_point_load(const double s, const Tensor<1, 3> &F, const Tensor<1, 3> &M, Vector<double> &f) const
+{
+  const auto [cell, xi] = locate(s);
+  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+  cell->get_dof_indices(local);
+  for (unsigned int i = 0; i < local.size(); ++i)
+    {
+      const unsigned int c = fe.system_to_component_index(i).first;
+      f[local[i]] += (c < 3 ? F[c] : M[c - 3]) * fe.shape_value_component(i, Point<1>(xi), c);
+    }
+}
+
+void CurvedBeamModel::add_line_load(const double s0, const double s1, const Tensor<1, 3> &q, Vector<double> &f) const
+{
+  // Per cell, Gauss points on the part of [s0, s1] it covers: p + 1 points integrate the
+  // polynomial shape functions exactly. A ring's cell across the seam spans [c0, c1 + L].
+  const double L = description.curve->length();
+  const QGauss<1> rule(description.degree + 1);
+  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      const auto [c0, c1] = mesh.cell_arc_lengths(cell);
+      cell->get_dof_indices(local);
+      for (const double shift : {0.0, description.curve->is_closed() ? L : -1.0})
+        {
+          if (shift < 0) continue;
+          const double a = std::max(c0, s0 + shift), b = std::min(c1, s1 + shift);
+          if (!(b > a)) continue;
+          for (unsigned int k = 0; k < rule.size(); ++k)
+            {
+              const double s = a + (b - a) * rule.point(k)[0], ds = (b - a) * rule.weight(k);
+              const Point<1> xi((s - c0) / (c1 - c0));
+              for (unsigned int i = 0; i < local.size(); ++i)
+                {
+                  const unsigned int c = fe.system_to_component_index(i).first;
+                  if (c < 3) f[local[i]] += q[c] * fe.shape_value_component(i, xi, c) * ds;
+                }
+            }
+        }
+    }
+}
+
+Vector<double> CurvedBeamModel::load_vector(const LoadCase &load_case) const
+{
+  Vector<double> f(dofs.n_dofs());
+  for (const auto &p : load_case.point_forces) add_point_load(p.s, p.value, Tensor<1, 3>(), f);
+  for (const auto &p : load_case.point_moments) add_point_load(p.s, Tensor<1, 3>(), p.value, f);
+  for (const auto &l : load_case.line_loads) add_line_load(l.s0, l.s1, l.q, f);
+  if (load_case.gravity.norm() > 0)
+    add_line_load(0, description.curve->length(),
+                  description.material.density * description.section.area * load_case.gravity, f);
+  return f;
+}
+
+Resultant CurvedBeamModel::vertex_resultant(const Vector<double> &r) const
+{
+  Resultant total;
+  std::vector<bool> done(mesh.triangulation().n_vertices(), false);
+  for (const auto &cell : dofs.active_cell_iterators())
+    for (unsigned int v = 0; v < 2; ++v)
+      {
+        if (done[cell->vertex_index(v)]) continue;
+        done[cell->vertex_index(v)] = true;
+        Tensor<1, 3> F, M;
+        for (unsigned int c = 0; c < 3; ++c)
+          {
+            F[c] = r[cell->vertex_dof_index(v, c)];
+            M[c] = r[cell->vertex_dof_index(v, c + 3)];
+          }
+        total.force += F;
+        total.moment += cross_product_3d(Tensor<1, 3>(cell->vertex(v)), F) + M;
+      }
+  return total;
 }
 } // namespace flextrack::fem

@@ -17,6 +17,7 @@
 
 #include <fem/arm.h>
 #include <fem/arm_mesh.h>
+#include <fem/load_case.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
@@ -55,10 +56,26 @@ public:
   void geometric_stiffness(const dealii::Vector<double> &u, dealii::TrilinosWrappers::SparseMatrix &K_G) const;
   /// Displacement [m] at arc length @p s of the dof vector @p u.
   dealii::Tensor<1, 3> displacement_at(double s, const dealii::Vector<double> &u) const;
+  /// Section rotation [rad] at arc length @p s of the dof vector @p u.
+  dealii::Tensor<1, 3> rotation_at(double s, const dealii::Vector<double> &u) const;
+
+  /// Adds the consistent nodal loads of a force @p F [N] and a moment @p M [N m] (global axes) at
+  /// arc length @p s to @p f (supported dofs included: their share goes straight to the support).
+  void add_point_load(double s, const dealii::Tensor<1, 3> &F, const dealii::Tensor<1, 3> &M,
+                      dealii::Vector<double> &f) const;
+  /// Adds the consistent nodal loads of a uniform force per length @p q [N/m] on s0 <= s <= s1.
+  void add_line_load(double s0, double s1, const dealii::Tensor<1, 3> &q, dealii::Vector<double> &f) const;
+  /// The nodal load vector of a load case (point and line loads, gravity on rho A).
+  dealii::Vector<double> load_vector(const LoadCase &load_case) const;
+  /// Resultant about the origin of nodal forces @p r at the mesh vertices (reactions: the
+  /// supports are vertices): sum of the forces, sum of x_k x F_k plus the nodal moments.
+  Resultant vertex_resultant(const dealii::Vector<double> &r) const;
 
 private:
   /// The cell holding arc length s, and s's reference coordinate in it.
   std::pair<dealii::DoFHandler<1, 3>::active_cell_iterator, double> locate(double s) const;
+  /// Components c0, c0 + 1, c0 + 2 of the field @p u at arc length @p s.
+  dealii::Tensor<1, 3> field_at(double s, const dealii::Vector<double> &u, unsigned int c0) const;
   void setup_dofs();
   void apply_supports();
   void assemble();

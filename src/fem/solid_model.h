@@ -12,6 +12,7 @@
 // distributed Trilinos matrices.
 #pragma once
 
+#include <fem/load_case.h>
 #include <fem/solid.h>
 
 #include <deal.II/distributed/shared_tria.h>
@@ -49,6 +50,14 @@ public:
   std::vector<dealii::types::global_dof_index> node_dofs(const MeshNode &node) const;
   /// Positions of all dofs' support points (for planes, loads and checks).
   std::vector<dealii::Point<3>> support_points() const;
+
+  /// Static loads (fem/solid_loads.cc, refinement 0): the nodal load vector of a load case's node
+  /// set forces and gravity (rho g per volume); arm loads are not for solids.
+  dealii::Vector<double> load_vector(const LoadCase &load_case) const;
+  /// Resultant about the origin of the nodal forces @p r (at the dofs' support points).
+  Resultant nodal_resultant(const dealii::Vector<double> &r) const;
+  /// Mean displacement [m] of the nodes of node set @p set in the solution @p u.
+  dealii::Tensor<1, 3> mean_displacement(const std::string &set, const dealii::Vector<double> &u) const;
 
 private:
   void setup_geometry();

@@ -43,6 +43,7 @@ void declare_arm_scene(ParameterHandler &prm)
   fem::Solid::declare_parameters(prm);
   reduction::ModalSettings::declare_parameters(prm);
   OutputSettings::declare_parameters(prm);
+  fem::StaticSettings::declare_parameters(prm);
 }
 
 ArmScene read_arm_scene(const SceneFile &file, ParameterHandler &prm)
@@ -51,6 +52,8 @@ ArmScene read_arm_scene(const SceneFile &file, ParameterHandler &prm)
     {
       if (file.model == "body")
         throw InputError("Model", "a 'body' scene is reduced by 'flextrack reduce', not analysed as one arm or solid");
+      const auto load_case_names = fem::StaticSettings::parse_load_case_list(*file.lists);
+      fem::LoadCase::declare_parameters(prm, load_case_names);
       file.parse(prm, false);
       ArmScene scene;
       scene.file = file.name;
@@ -61,6 +64,11 @@ ArmScene read_arm_scene(const SceneFile &file, ParameterHandler &prm)
         scene.arm = fem::Arm::parse_parameters(prm, file.directory);
       scene.modal = reduction::ModalSettings::parse_parameters(prm);
       scene.output = OutputSettings::parse_parameters(prm);
+      const fem::Arm *arm = scene.is_solid ? nullptr : &scene.arm;
+      const fem::Solid *solid = scene.is_solid ? &scene.solid : nullptr;
+      scene.statics = fem::StaticSettings::parse_parameters(prm, arm, solid);
+      for (const auto &name : scene.statics.load_cases)
+        scene.load_cases.push_back(fem::LoadCase::parse_parameters(prm, name, arm, solid));
       return scene;
     }
   catch (const InputError &e)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <fem/arm.h>
+#include <fem/load_case.h>
 #include <fem/solid.h>
 #include <io/scene_file.h>
 #include <reduction/modal_solver.h>
@@ -34,12 +35,14 @@ struct ArmScene
   fem::Solid solid;
   reduction::ModalSettings modal;
   OutputSettings output;
+  fem::StaticSettings statics;            ///< "subsection Static" ('flextrack static')
+  std::vector<fem::LoadCase> load_cases; ///< one per name in Static/Load cases
 };
 
 void declare_arm_scene(dealii::ParameterHandler &prm);
 
-/// Parse @p file (Model = arm or solid) into @p prm (declared by declare_arm_scene) and build the
-/// scene. Throws InputError naming the file and the entry.
+/// Parse @p file (Model = arm or solid) into @p prm (declared by declare_arm_scene; the load case
+/// subsections named in the file are declared here) and build the scene. Throws InputError naming the file and the entry.
 ArmScene read_arm_scene(const SceneFile &file, dealii::ParameterHandler &prm);
 ArmScene read_arm_scene(const std::string &file, dealii::ParameterHandler &prm);
 

@@ -2,6 +2,7 @@
 #include <base/parse_error.h>
 #include <base/text.h>
 #include <fem/body.h>
+#include <fem/load_case.h>
 #include <io/scene_file.h>
 #include <multibody/simulation_settings.h>
 
@@ -26,6 +27,7 @@ void declare_first_pass(ParameterHandler &prm)
 {
   declare_model_entry(prm);
   fem::Body::declare_arm_list(prm); // Body/Arms
+  fem::StaticSettings::declare_load_case_list(prm); // Static/Load cases
   multibody::SceneNames::declare_name_lists(prm); // Multibody/Bodies, Joints, Forces, Probes
 }
 

@@ -14,7 +14,8 @@ unit but that is neither numeric nor templated nor listed as text makes the test
 it is classified rather than silently skipped.
 
 Scenes: tests/input/straight_cantilever.prm (Model = arm, `modes`), tests/input/solid_box.prm
-(Model = solid, `modes`) and tests/input/small_body.prm (Model = body, `reduce`). An entry is
+(Model = solid, `modes`), tests/input/small_body.prm (Model = body, `reduce`) and
+tests/input/static_cantilever.prm (Static and Load case NAME, `static`). An entry is
 swept in each scene that reads its section (Modal analysis and Output in all three; the entries
 of "Arm NAME" as "Arm boom" in the body scene).
 
@@ -61,6 +62,8 @@ SCENES = {
     "body": ("tests/input/small_body.prm", "reduce",
              {"Body": "Body", "Solid": "Solid", "Arm NAME": "Arm boom", "Reduction": "Reduction",
               "Modal analysis": "Modal analysis", "Output": "Output"}),
+    "static": ("tests/input/static_cantilever.prm", "static",
+               {"Static": "Static", "Load case NAME": "Load case tip"}),
     "multibody": ("tests/input/small_pendulum.prm", "run",
                   {"Multibody": "Multibody", "Body NAME": "Body bob", "Joint NAME": "Joint pivot",
                    "Force NAME": "Force spring", "Probe NAME": "Probe tip", "Output": "Output"}),
@@ -68,7 +71,8 @@ SCENES = {
 # The subset: each top-level section in one scene only.
 SUBSET_SCENE = {"Arm": "arm", "Arm NAME": None, "Solid": "solid", "Body": "body", "Reduction": "body",
                 "Modal analysis": "arm", "Output": "arm", "Multibody": "multibody", "Body NAME": "multibody",
-                "Joint NAME": "multibody", "Force NAME": "multibody", "Probe NAME": "multibody"}
+                "Joint NAME": "multibody", "Force NAME": "multibody", "Probe NAME": "multibody",
+                "Static": "static", "Load case NAME": "static"}
 
 # Entries holding numbers inside text: entry name -> [(label, template with {v})]. Names of the
 # sample scenes: arm 'boom', interface 'tip', output point 'corner'.
@@ -85,6 +89,11 @@ TEMPLATES = {
     "Torque": [("z", "0; 0; {v}")],
     "Euler parameters": [("p0", "{v}, 0, 0, 0")],
     "Inline points": [("x", "0 0 0; {v} 1 0")],
+    # 'flextrack static' (issue 12): arc lengths and load values of tests/input/static_cantilever.prm
+    "Points": [("arc length", "{v}")],
+    "Point forces": [("arc length", "{v}: 0 0 1"), ("force", "1: {v} 0 0")],
+    "Point moments": [("arc length", "{v}: 0 0 1"), ("moment", "1: {v} 0 0")],
+    "Line loads": [("start", "{v} 2: 0 0 1"), ("load", "1 2: {v} 0 0")],
 }
 # Context of an entry: (section path as printed, with "Arm" standing for "Arm" and "Arm NAME") ->
 # settings [(path below the arm or top section, entry, value)] that make the scene use the entry.
@@ -123,7 +132,7 @@ def context(path, name):
 CONSEQUENCES = {"Arm boom/Curve": ("Body/Ties", "Body/Interfaces")}
 
 # Text entries that hold no number to sweep although their documentation names a unit.
-TEXT_ENTRIES = {"Points file", "Mesh file", "Directory", "Export formats", "Track arms", "Arms", "Kind", "Shape",
+TEXT_ENTRIES = {"Node sets", "Points file", "Mesh file", "Directory", "Export formats", "Track arms", "Arms", "Kind", "Shape",
                 "Start", "End", "Method", "Mesh", "Element", "Integration", "Direct solver", "Model",
                 # multibody scenes: names, lists of names, switches, file names and expressions
                 "Bodies", "Joints", "Forces", "Probes", "Body", "Body 1", "Body 2", "Interface", "Interface 1",

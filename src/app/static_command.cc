@@ -1,0 +1,300 @@
+// flextrack static: the linear static solution of an arm or solid scene's full FE model under
+// each of its load cases (Static/Load cases, fem/load_case.h).
+//
+// Arms are meshed with a node at every point load, line-load end and report point (they are
+// added to the mesh as 'free' supports), so point loads are nodal and the reported values are
+// nodal values. Solids take node set forces (a uniform traction on the set's faces) and gravity
+// and report the mean displacement of node sets. The stiffness is assembled once without
+// supports and factorised once with them (reduction/static_solver.h, CHOLMOD); every load case
+// is then one forward/backward solve. Reported per case: the displacements at the report points,
+// the support reactions and their resultant against the resultant of the applied loads
+// (equilibrium), and the strain energy. Nothing is written until every case is solved.
+#include <app/commands.h>
+#include <base/input_error.h>
+#include <fem/curved_beam_model.h>
+#include <fem/load_case.h>
+#include <fem/solid_model.h>
+#include <io/arm_scene.h>
+#include <io/output_folder.h>
+#include <reduction/static_solver.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
+
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace flextrack::app
+{
+using namespace dealii;
+
+namespace
+{
+/// The results of one load case: values at the report points (an arm: u and theta [m, rad] at an
+/// arc length; a solid: the mean u [m] of a node set).
+struct CaseResult
+{
+  std::string name;
+  std::vector<std::vector<double>> values;
+  fem::Resultant applied, reactions; ///< about the origin [N], [N m]
+  double strain_energy = 0, residual = 0;
+};
+
+/// What every load case reports: the points (labels for the log, leading CSV fields) and the
+/// CSV header.
+struct Report
+{
+  std::string csv_header;
+  std::vector<std::string> labels, csv_fields;
+  std::vector<CaseResult> cases;
+  unsigned int n_cells = 0, n_dofs = 0, n_free_dofs = 0;
+  std::string description;
+};
+
+std::string vector_text(const Tensor<1, 3> &v, const int precision = 6)
+{
+  std::ostringstream o;
+  o << std::setprecision(precision) << "(" << v[0] << ", " << v[1] << ", " << v[2] << ")";
+  return o.str();
+}
+
+std::string values_text(const std::vector<double> &v)
+{
+  std::ostringstream o;
+  o << std::setprecision(10) << "u = (" << v[0] << ", " << v[1] << ", " << v[2] << ") m";
+  if (v.size() == 6) o << ",  theta = (" << v[3] << ", " << v[4] << ", " << v[5] << ") rad";
+  return o.str();
+}
+
+std::vector<double> as_list(const Tensor<1, 3> &v) { return {v[0], v[1], v[2]}; }
+
+void print_case(const CaseResult &r, const Report &report)
+{
+  std::cout << "\n  load case " << r.name << "\n";
+  for (std::size_t k = 0; k < report.labels.size(); ++k)
+    std::cout << "    " << report.labels[k] << ":  " << values_text(r.values[k]) << "\n";
+  std::cout << "    applied loads:  F = " << vector_text(r.applied.force) << " N,  M = " << vector_text(r.applied.moment)
+            << " N m (about the origin)\n"
+            << "    reactions:      F = " << vector_text(r.reactions.force) << " N,  M = "
+            << vector_text(r.reactions.moment) << " N m\n"
+            << std::scientific << std::setprecision(2) << "    equilibrium:    |F + R| = "
+            << (r.applied.force + r.reactions.force).norm() << " N,  |M + M_R| = "
+            << (r.applied.moment + r.reactions.moment).norm() << " N m;  relative residual of K u = f "
+            << r.residual << "\n"
+            << std::defaultfloat << std::setprecision(10) << "    strain energy:  " << r.strain_energy << " J\n";
+}
+
+std::string csv_table(const Report &report)
+{
+  std::ostringstream csv;
+  csv << report.csv_header << "\n";
+  for (const auto &r : report.cases)
+    for (std::size_t k = 0; k < report.labels.size(); ++k)
+      {
+        csv << r.name << "," << report.csv_fields[k];
+        for (const double v : r.values[k]) csv << "," << io::csv_number(v);
+        csv << "\n";
+      }
+  return csv.str();
+}
+
+std::string cases_json(const Report &report)
+{
+  std::string list = "[";
+  for (std::size_t i = 0; i < report.cases.size(); ++i)
+    {
+      const auto &r = report.cases[i];
+      std::string at = "[";
+      for (std::size_t k = 0; k < report.labels.size(); ++k)
+        {
+          io::JsonObject p;
+          p.add("at", report.labels[k]).add("values", r.values[k]);
+          at += (k ? ", " : "") + p.str(6);
+        }
+      io::JsonObject c;
+      c.add("name", r.name)
+        .raw("points", at + "]")
+        .add("applied_force_N", as_list(r.applied.force))
+        .add("applied_moment_Nm", as_list(r.applied.moment))
+        .add("reaction_force_N", as_list(r.reactions.force))
+        .add("reaction_moment_Nm", as_list(r.reactions.moment))
+        .add("force_imbalance_N", (r.applied.force + r.reactions.force).norm())
+        .add("moment_imbalance_Nm", (r.applied.moment + r.reactions.moment).norm())
+        .add("relative_residual", r.residual)
+        .add("strain_energy_J", r.strain_energy);
+      list += (i ? ", " : "") + c.str(4);
+    }
+  return list + "]";
+}
+
+/// Solves every load case on @p model and fills the common parts of the cases.
+template <typename Model>
+std::vector<reduction::StaticSolution> solve_cases(const Model &model, const io::ArmScene &scene, Report &report,
+                                                   TimerOutput &timer)
+{
+  std::vector<Vector<double>> loads;
+  {
+    TimerOutput::Scope t(timer, "assemble loads");
+    for (const auto &c : scene.load_cases) loads.push_back(model.load_vector(c));
+  }
+  report.n_cells = model.n_cells();
+  report.n_dofs = model.n_dofs();
+  report.n_free_dofs = model.n_free_dofs();
+  std::cout << "flextrack static: " << scene.file << "\n  " << report.description << ", " << report.n_dofs << " dofs ("
+            << report.n_free_dofs << " free), " << loads.size() << " load case" << (loads.size() == 1 ? "" : "s")
+            << std::endl;
+  TimerOutput::Scope t(timer, "factorise and solve");
+  const reduction::StaticSolver solver(model.stiffness_matrix(), model.constraints());
+  const auto solutions = solver.solve(loads);
+  for (std::size_t i = 0; i < solutions.size(); ++i)
+    {
+      CaseResult r;
+      r.name = scene.load_cases[i].name;
+      r.strain_energy = solutions[i].strain_energy;
+      r.residual = solutions[i].residual;
+      report.cases.push_back(r);
+    }
+  return solutions;
+}
+
+Report arm_statics(const io::ArmScene &scene, TimerOutput &timer)
+{
+  Report report;
+  const std::vector<double> points =
+    scene.statics.points.empty() ? std::vector<double>{scene.arm.curve->length()} : scene.statics.points;
+  const fem::Arm arm = fem::with_load_stations(scene.arm, scene.load_cases, points);
+  std::unique_ptr<fem::CurvedBeamModel> model;
+  {
+    TimerOutput::Scope t(timer, "assemble K");
+    model = std::make_unique<fem::CurvedBeamModel>(arm, 0, false);
+  }
+  if (model->constraints().n_constraints() == 0)
+    throw InputError("Arm/Supports", "the arm has no support: it moves freely under a static load; clamp or pin it");
+  std::ostringstream d;
+  d << "arm: " << arm.curve->description() << ", L = " << arm.curve->length() << " m, " << model->n_cells()
+    << " elements of degree " << arm.degree;
+  report.description = d.str();
+  report.csv_header = "load_case,s_m,x_m,y_m,z_m,ux_m,uy_m,uz_m,theta_x_rad,theta_y_rad,theta_z_rad";
+  for (const double s : points)
+    {
+      std::ostringstream label, fields;
+      label << "s = " << std::setprecision(8) << s << " m";
+      const auto x = arm.curve->position(s);
+      fields << io::csv_number(s) << "," << io::csv_number(x[0]) << "," << io::csv_number(x[1]) << ","
+             << io::csv_number(x[2]);
+      report.labels.push_back(label.str());
+      report.csv_fields.push_back(fields.str());
+    }
+  const auto solutions = solve_cases(*model, scene, report, timer);
+  for (std::size_t i = 0; i < solutions.size(); ++i)
+    {
+      auto &r = report.cases[i];
+      for (const double s : points)
+        {
+          const auto u = model->displacement_at(s, solutions[i].u), theta = model->rotation_at(s, solutions[i].u);
+          r.values.push_back({u[0], u[1], u[2], theta[0], theta[1], theta[2]});
+        }
+      r.applied = scene.load_cases[i].resultant_on(arm);
+      r.reactions = model->vertex_resultant(solutions[i].reaction);
+    }
+  return report;
+}
+
+Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
+{
+  Report report;
+  std::unique_ptr<fem::SolidModel> model;
+  {
+    TimerOutput::Scope t(timer, "assemble K");
+    model = std::make_unique<fem::SolidModel>(scene.solid, 0, false);
+  }
+  if (model->constraints().n_constraints() == 0)
+    throw InputError("Solid/Supports", "the solid has no support: it moves freely under a static load; fix a node "
+                                       "set or a plane");
+  report.description = "solid: " + scene.solid.mesh->source + ", " + std::to_string(model->n_cells()) + " cells";
+  report.csv_header = "load_case,node_set,mean_ux_m,mean_uy_m,mean_uz_m";
+  std::vector<std::string> sets = scene.statics.node_sets;
+  if (sets.empty())
+    for (const auto &c : scene.load_cases)
+      for (const auto &f : c.node_set_forces)
+        if (std::find(sets.begin(), sets.end(), f.node_set) == sets.end()) sets.push_back(f.node_set);
+  for (const auto &set : sets)
+    {
+      report.labels.push_back("node set " + set + " (mean)");
+      report.csv_fields.push_back(set);
+    }
+  const auto solutions = solve_cases(*model, scene, report, timer);
+  for (std::size_t i = 0; i < solutions.size(); ++i)
+    {
+      auto &r = report.cases[i];
+      for (const auto &set : sets)
+        {
+          const auto u = model->mean_displacement(set, solutions[i].u);
+          r.values.push_back({u[0], u[1], u[2]});
+        }
+      // Isoparametric elements: the nodal load vector has the resultant of the loads it stands for.
+      r.applied = model->nodal_resultant(model->load_vector(scene.load_cases[i]));
+      r.reactions = model->nodal_resultant(solutions[i].reaction);
+    }
+  return report;
+}
+} // namespace
+
+int static_command(const Options &options, const io::SceneFile &file)
+{
+  CommandClock clock;
+  auto &timer = clock.timer;
+  ParameterHandler prm;
+  io::ArmScene scene;
+  {
+    TimerOutput::Scope t(timer, "read parameters and geometry");
+    if (file.model != "arm" && file.model != "solid")
+      throw InputError("Model", "'flextrack static' solves arm and solid scenes ('Model = arm' or 'solid'); this "
+                                "scene is '" + file.model + "'", file.name);
+    io::declare_arm_scene(prm);
+    scene = io::read_arm_scene(file, prm);
+    if (scene.load_cases.empty())
+      throw InputError("Static/Load cases", "the scene has no load case; list them here and describe each in "
+                                            "'subsection Load case NAME'", file.name);
+  }
+  if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+    throw InputError("", "'flextrack static' runs on one process; start it without mpirun", file.name);
+  Report report;
+  try
+    {
+      report = scene.is_solid ? solid_statics(scene, timer) : arm_statics(scene, timer);
+    }
+  catch (const InputError &e)
+    {
+      throw e.file().empty() ? e.in_file(file.name) : e;
+    }
+  for (const auto &r : report.cases) print_case(r, report);
+
+  io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
+  {
+    TimerOutput::Scope t(timer, "write output");
+    out.add_text("static.csv", csv_table(report));
+    out.add_parameters(prm);
+    io::JsonObject summary;
+    summary.add("program", "flextrack " FLEXTRACK_VERSION)
+      .add("command", "static")
+      .add("parameter_file", options.file)
+      .add("model", report.description)
+      .add("elements", report.n_cells)
+      .add("degrees_of_freedom", report.n_dofs)
+      .add("free_degrees_of_freedom", report.n_free_dofs)
+      .raw("load_cases", cases_json(report))
+      .add("wall_time_s", io::timings_json(timer))
+      .add("total_wall_time_s", clock.wall.wall_time())
+      .add("peak_memory_MiB", io::peak_memory_mib())
+      .raw("parameters", io::parameters_as_json(prm));
+    out.add_summary(summary);
+  }
+  out.commit();
+  std::cout << "\n";
+  print_timings(clock);
+  std::cout << "  results in " << out.path() << "/ (static.csv, summary.json)" << std::endl;
+  return 0;
+}
+} // namespace flextrack::app

@@ -1,0 +1,264 @@
+#include <base/input_error.h>
+#include <base/text.h>
+#include <fem/load_case.h>
+#include <geometry/curve_library.h>
+
+#include <deal.II/base/quadrature_lib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <sstream>
+
+namespace flextrack::fem
+{
+using dealii::ParameterHandler;
+using dealii::Tensor;
+
+namespace
+{
+// Sanity limits: beyond them a value is a unit mistake, and 1e300 would overflow the solution.
+const geometry::NumberRange force_range{-1e12, 1e12, true, "N"};
+const geometry::NumberRange moment_range{-1e12, 1e12, true, "N m"};
+const geometry::NumberRange line_load_range{-1e12, 1e12, true, "N/m"};
+const geometry::NumberRange gravity_range{-1e6, 1e6, true, "m/s^2"};
+
+std::string section_of(const std::string &name) { return "Load case " + name; }
+
+/// An arc length [m] on @p arm, 0 <= s <= L (a hair beyond L is L).
+double arc_length(const std::string &word, const std::string &entry, const std::string &what, const Arm &arm)
+{
+  const double s = base::parse_number(word, entry, "an arc length [m]");
+  const double L = arm.curve->length();
+  if (s < 0 || s > L * (1 + 1e-12))
+    {
+      std::ostringstream m;
+      m << what << " at s = " << s << " m lies beyond the arm (its length is L = " << L
+        << " m); allowed: 0 <= s <= L";
+      throw InputError(entry, m.str());
+    }
+  return std::min(s, L);
+}
+
+/// Three numbers "x y z" (blanks or commas), each within @p range.
+Tensor<1, 3> vector3(const std::string &text, const std::string &entry, const std::string &what,
+                     const geometry::NumberRange &range)
+{
+  const auto w = base::words(text);
+  if (w.size() != 3)
+    throw InputError(entry, what + " '" + base::printable_excerpt(text) + "' is not three numbers 'x y z' [" +
+                              range.unit + "]");
+  Tensor<1, 3> v;
+  for (unsigned int d = 0; d < 3; ++d)
+    v[d] = geometry::checked_number(base::parse_number(w[d], entry, "a component [" + range.unit + "]"), entry, range);
+  return v;
+}
+
+/// @p name (upper-cased) if @p solid has that node set; InputError naming @p entry otherwise.
+std::string node_set(const std::string &name, const std::string &entry, const Solid *solid)
+{
+  if (!solid) throw InputError(entry, "the scene has no solid: node sets apply to 'Model = solid' scenes");
+  std::string upper = name;
+  for (auto &c : upper) c = std::toupper(static_cast<unsigned char>(c));
+  const auto &sets = solid->mesh->node_sets;
+  if (sets.count(upper)) return upper;
+  std::string allowed;
+  for (const auto &[set, nodes] : sets) allowed += (allowed.empty() ? "" : ", ") + set;
+  throw InputError(entry, "node set '" + base::printable_excerpt(name) + "' does not exist in " + solid->mesh->source +
+                            "; allowed: " + (allowed.empty() ? "(the mesh has no node sets)" : allowed));
+}
+
+/// The ';'-separated items of an entry, at most max_load_items of them.
+std::vector<std::pair<std::string, std::string>> items(ParameterHandler &prm, const std::string &name,
+                                                       const std::string &entry, const std::string &form)
+{
+  const auto list = base::named_items(prm.get(name), entry, form);
+  if (list.size() > max_load_items)
+    throw InputError(entry, std::to_string(list.size()) + " items; at most " + std::to_string(max_load_items) +
+                              " are allowed");
+  return list;
+}
+
+/// Composite Gauss rule on [a, b]: the centre line is smooth, 64 panels of 8 points integrate
+/// its position to round-off for any curve the scene files allow.
+template <typename F>
+void integrate(const double a, const double b, F &&f)
+{
+  const dealii::QGauss<1> rule(8);
+  const unsigned int panels = 64;
+  const double h = (b - a) / panels;
+  for (unsigned int k = 0; k < panels; ++k)
+    for (unsigned int q = 0; q < rule.size(); ++q) f(a + h * (k + rule.point(q)[0]), h * rule.weight(q));
+}
+} // namespace
+
+void LoadCase::declare_parameters(ParameterHandler &prm, const std::vector<std::string> &names)
+{
+  for (const auto &name : names)
+    {
+      prm.enter_subsection(section_of(name));
+      prm.declare_entry("Point forces", "", dealii::Patterns::Anything(),
+                        "Arm: forces at arc lengths, separated by ';': 'S: Fx Fy Fz' with S [m], 0 <= S <= L, and the "
+                        "force [N] in global axes, each component at most 1e12 N in size. A mesh node is placed at "
+                        "each S. At most 1000.");
+      prm.declare_entry("Point moments", "", dealii::Patterns::Anything(),
+                        "Arm: moments at arc lengths, separated by ';': 'S: Mx My Mz' with S [m], 0 <= S <= L, and the "
+                        "moment [N m] in global axes, each component at most 1e12 N m in size. At most 1000.");
+      prm.declare_entry("Line loads", "", dealii::Patterns::Anything(),
+                        "Arm: uniform distributed forces, separated by ';': 'S0 S1: qx qy qz' on S0 <= s <= S1 "
+                        "[m], 0 <= S0 < S1 <= L, force per unit arc length [N/m] in global axes, each component at "
+                        "most 1e12 N/m in size. At most 1000.");
+      prm.declare_entry("Node set forces", "", dealii::Patterns::Anything(),
+                        "Solid: total forces on node sets, separated by ';': 'SET: Fx Fy Fz' [N], global axes, each "
+                        "component at most 1e12 N in size. The force is spread as a uniform traction over the "
+                        "boundary faces whose corners all belong to the set (consistent nodal weights), or in equal "
+                        "shares over the set's nodes if it holds no whole face. At most 1000.");
+      prm.declare_entry("Gravity", "0, 0, 0", dealii::Patterns::Anything(),
+                        "Acceleration of gravity 'gx, gy, gz' [m/s^2], each component at most 1e6 m/s^2 in size; "
+                        "it loads the structure with its weight (density times volume).");
+      prm.leave_subsection();
+    }
+}
+
+LoadCase LoadCase::parse_parameters(ParameterHandler &prm, const std::string &name, const Arm *arm, const Solid *solid)
+{
+  LoadCase c;
+  c.name = name;
+  const std::string path = section_of(name) + "/";
+  prm.enter_subsection(section_of(name));
+  const auto needs_arm = [&](const std::string &entry, const auto &list) {
+    if (!list.empty() && !arm)
+      throw InputError(path + entry, "the scene has no arm: point and line loads at arc lengths apply to "
+                                     "'Model = arm' scenes");
+  };
+  const auto point_loads = [&](const std::string &entry_name, const std::string &what,
+                               const geometry::NumberRange &range, std::vector<ArmPointLoad> &loads) {
+    const std::string entry = path + entry_name;
+    const auto list = items(prm, entry_name, entry, "S: x y z");
+    needs_arm(entry_name, list);
+    for (const auto &[where, value] : list)
+      loads.push_back({arc_length(where, entry, what, *arm), vector3(value, entry, what, range)});
+  };
+  point_loads("Point forces", "point force", force_range, c.point_forces);
+  point_loads("Point moments", "point moment", moment_range, c.point_moments);
+
+  const std::string line_entry = path + "Line loads";
+  const auto lines = items(prm, "Line loads", line_entry, "S0 S1: qx qy qz");
+  needs_arm("Line loads", lines);
+  for (const auto &[where, value] : lines)
+    {
+      const auto w = base::words(where);
+      if (w.size() != 2)
+        throw InputError(line_entry, "'" + base::printable_excerpt(where) + "' is not an interval 'S0 S1' [m]");
+      ArmLineLoad l;
+      l.s0 = arc_length(w[0], line_entry, "line load start", *arm);
+      l.s1 = arc_length(w[1], line_entry, "line load end", *arm);
+      if (!(l.s1 > l.s0))
+        throw InputError(line_entry, "line load on '" + base::printable_excerpt(where) + "': allowed: S0 < S1");
+      l.q = vector3(value, line_entry, "line load", line_load_range);
+      c.line_loads.push_back(l);
+    }
+  const std::string set_entry = path + "Node set forces";
+  for (const auto &[set, value] : items(prm, "Node set forces", set_entry, "SET: Fx Fy Fz"))
+    c.node_set_forces.push_back({node_set(set, set_entry, solid), vector3(value, set_entry, "node set force", force_range)});
+  const auto g = base::parse_vector3(prm.get("Gravity"), path + "Gravity", "m/s^2");
+  for (unsigned int d = 0; d < 3; ++d) c.gravity[d] = geometry::checked_number(g[d], path + "Gravity", gravity_range);
+  prm.leave_subsection();
+  return c;
+}
+
+Resultant LoadCase::resultant_on(const Arm &arm) const
+{
+  Resultant r;
+  const auto &curve = *arm.curve;
+  for (const auto &p : point_forces)
+    {
+      r.force += p.value;
+      r.moment += cross_product_3d(Tensor<1, 3>(curve.position(p.s)), p.value);
+    }
+  for (const auto &p : point_moments) r.moment += p.value;
+  const auto distributed = [&](const double a, const double b, const Tensor<1, 3> &q) {
+    integrate(a, b, [&](const double s, const double ds) {
+      r.force += q * ds;
+      r.moment += cross_product_3d(Tensor<1, 3>(curve.position(s)), q) * ds;
+    });
+  };
+  for (const auto &l : line_loads) distributed(l.s0, l.s1, l.q);
+  if (gravity.norm() > 0) distributed(0, curve.length(), arm.material.density * arm.section.area * gravity);
+  return r;
+}
+
+Arm with_load_stations(const Arm &arm, const std::vector<LoadCase> &cases, const std::vector<double> &points)
+{
+  Arm result = arm;
+  auto station = [&](const double s) { result.supports.push_back({s, SupportKind::free}); };
+  for (const double s : points) station(s);
+  for (const auto &c : cases)
+    {
+      for (const auto &p : c.point_forces) station(p.s);
+      for (const auto &p : c.point_moments) station(p.s);
+      for (const auto &l : c.line_loads)
+        {
+          station(l.s0);
+          station(l.s1);
+        }
+    }
+  return result;
+}
+
+void StaticSettings::declare_load_case_list(ParameterHandler &prm)
+{
+  prm.enter_subsection("Static");
+  prm.declare_entry("Load cases", "", dealii::Patterns::Anything(),
+                    "Names of the load cases of 'flextrack static', separated by commas (letters, digits, '_'); "
+                    "each case NAME is described in its own 'subsection Load case NAME'. At most 1000.");
+  prm.leave_subsection();
+}
+
+std::vector<std::string> StaticSettings::parse_load_case_list(ParameterHandler &prm)
+{
+  prm.enter_subsection("Static");
+  const std::string text = prm.get("Load cases");
+  prm.leave_subsection();
+  auto names = base::parse_name_list(text, "Static/Load cases", "load case name");
+  if (names.size() > max_load_cases)
+    throw InputError("Static/Load cases", std::to_string(names.size()) + " load cases; at most " +
+                                            std::to_string(max_load_cases) + " are allowed");
+  return names;
+}
+
+void StaticSettings::declare_parameters(ParameterHandler &prm)
+{
+  declare_load_case_list(prm);
+  prm.enter_subsection("Static");
+  prm.declare_entry("Points", "", dealii::Patterns::Anything(),
+                    "Arm: arc lengths S [m], 0 <= S <= L, separated by commas, where 'flextrack static' reports "
+                    "the displacement and rotation (a mesh node is placed at each); empty: the end of the arm "
+                    "(s = L). At most 1000.");
+  prm.declare_entry("Node sets", "", dealii::Patterns::Anything(),
+                    "Solid: node sets whose mean displacement [m] 'flextrack static' reports, separated by commas; "
+                    "empty: the node sets that carry forces. At most 1000.");
+  prm.leave_subsection();
+}
+
+StaticSettings StaticSettings::parse_parameters(ParameterHandler &prm, const Arm *arm, const Solid *solid)
+{
+  StaticSettings s;
+  s.load_cases = parse_load_case_list(prm);
+  prm.enter_subsection("Static");
+  const auto points = base::split(prm.get("Points"), ',');
+  const auto sets = base::words(prm.get("Node sets"));
+  prm.leave_subsection();
+  if (sets.size() > max_load_items)
+    throw InputError("Static/Node sets", std::to_string(sets.size()) + " node sets; at most " +
+                                          std::to_string(max_load_items) + " are allowed");
+  for (const auto &set : sets) s.node_sets.push_back(node_set(set, "Static/Node sets", solid));
+  const std::string entry = "Static/Points";
+  if (points.size() > max_load_items)
+    throw InputError(entry, std::to_string(points.size()) + " points; at most " + std::to_string(max_load_items) +
+                              " are allowed");
+  if (!points.empty() && !arm)
+    throw InputError(entry, "the scene has no arm: report points at arc lengths apply to 'Model = arm' scenes");
+  for (const auto &p : points) s.points.push_back(arc_length(p, entry, "report point", *arm));
+  return s;
+}
+} // namespace flextrack::fem

@@ -1,0 +1,104 @@
+// Static load cases of a scene: named sets of loads that 'flextrack static' applies one at a
+// time to the FE model (one factorisation of K for all of them).
+//
+// A scene lists its load cases in "Static/Load cases" and describes each in its own
+// "subsection Load case NAME" (the two-pass pattern of io/scene_file.h):
+//   subsection Static
+//     set Load cases = tip, weight
+//     set Points     = 1.5, 3        # arm: arc lengths [m] where u and theta are reported
+//   end
+//   subsection Load case tip
+//     set Point forces  = 3: 0 -100 0          # S [m]: Fx Fy Fz [N], global axes
+//     set Point moments = 3: 0 0 20            # S [m]: Mx My Mz [N m]
+//     set Line loads    = 0 1.5: 0 -10 0       # S0 S1 [m]: qx qy qz [N/m] on S0 <= s <= S1
+//     set Gravity       = 0, 0, -9.81          # [m/s^2], acts on the density of the material
+//     set Node set forces = XMAX: 0 0 -100     # solid: total force [N] on a node set
+//   end
+// The load vectors themselves are built by the FE models (CurvedBeamModel::add_point_load, ...),
+// the exact resultant of the loads (for the equilibrium check) here.
+#pragma once
+
+#include <fem/arm.h>
+#include <fem/solid.h>
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/tensor.h>
+
+#include <string>
+#include <vector>
+
+namespace flextrack::fem
+{
+/// Most load cases of a scene, and most items in one entry of a load case.
+constexpr unsigned int max_load_cases = 1000;
+constexpr unsigned int max_load_items = 1000;
+
+/// A force [N] or moment [N m] at arc length s [m] of an arm, global axes.
+struct ArmPointLoad
+{
+  double s = 0;
+  dealii::Tensor<1, 3> value;
+};
+
+/// A uniform distributed force q [N/m] (global axes) on s0 <= s <= s1 [m] of an arm.
+struct ArmLineLoad
+{
+  double s0 = 0, s1 = 0;
+  dealii::Tensor<1, 3> q;
+};
+
+/// A total force [N] (global axes) on the nodes of a solid's node set: distributed as a uniform
+/// traction over the boundary faces whose corners all belong to the set (consistent nodal
+/// weights), or in equal shares over the set's nodes if it holds no whole face.
+struct NodeSetForce
+{
+  std::string node_set; ///< upper case
+  dealii::Tensor<1, 3> force;
+};
+
+/// Force [N] and moment [N m] about the origin of a system of loads (or reactions).
+struct Resultant
+{
+  dealii::Tensor<1, 3> force, moment;
+};
+
+struct LoadCase
+{
+  std::string name;
+  std::vector<ArmPointLoad> point_forces, point_moments;
+  std::vector<ArmLineLoad> line_loads;
+  std::vector<NodeSetForce> node_set_forces;
+  dealii::Tensor<1, 3> gravity; ///< [m/s^2]
+
+  /// Declares "subsection Load case NAME" for each of @p names.
+  static void declare_parameters(dealii::ParameterHandler &prm, const std::vector<std::string> &names);
+  /// Reads "subsection Load case @p name"; the arc lengths are checked against @p arm, the node
+  /// sets against @p solid (either null where the scene has none: then its loads are refused).
+  /// InputError naming the entry.
+  static LoadCase parse_parameters(dealii::ParameterHandler &prm, const std::string &name, const Arm *arm,
+                                   const Solid *solid = nullptr);
+
+  /// The exact resultant about the origin of the loads of this case on @p arm (point loads at
+  /// their curve points, line loads and gravity integrated along the exact centre line).
+  Resultant resultant_on(const Arm &arm) const;
+};
+
+/// @p arm with a mesh node at every point load, line-load end of @p cases and every point of
+/// @p points [m] (added as 'free' supports, which only place a node).
+Arm with_load_stations(const Arm &arm, const std::vector<LoadCase> &cases, const std::vector<double> &points);
+
+/// "subsection Static": which load cases a scene has and where results are reported.
+struct StaticSettings
+{
+  std::vector<std::string> load_cases;
+  std::vector<double> points; ///< arm: arc lengths [m]; empty = the end of the arm
+  std::vector<std::string> node_sets; ///< solid: mean displacement reported; empty = the loaded sets
+
+  /// "Static/Load cases" alone (first pass of a scene, io/scene_file.cc).
+  static void declare_load_case_list(dealii::ParameterHandler &prm);
+  static std::vector<std::string> parse_load_case_list(dealii::ParameterHandler &prm);
+  static void declare_parameters(dealii::ParameterHandler &prm);
+  /// @p arm, @p solid: the structure of the scene (checks the points, node sets), or null.
+  static StaticSettings parse_parameters(dealii::ParameterHandler &prm, const Arm *arm, const Solid *solid = nullptr);
+};
+} // namespace flextrack::fem

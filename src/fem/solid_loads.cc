@@ -1,0 +1,131 @@
+// Static loads of a solid (issue 12): node set forces spread by the consistent nodal weights of
+// the set's boundary faces, gravity as a body force, and the resultant of nodal forces. The
+// isoparametric elements represent rigid motions exactly, so the resultant of a nodal load
+// vector equals that of the distributed load it stands for, and reactions balance loads to
+// round-off.
+#include <fem/solid_model.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <set>
+
+namespace flextrack::fem
+{
+using namespace dealii;
+
+namespace
+{
+/// Boundary faces (cell, face number) whose four corners all belong to @p nodes.
+template <typename Dofs>
+std::vector<std::pair<typename Dofs::active_cell_iterator, unsigned int>> faces_of(const Dofs &dofs,
+                                                                                   const std::vector<MeshNode> &nodes)
+{
+  const std::set<MeshNode> set(nodes.begin(), nodes.end());
+  std::vector<std::pair<typename Dofs::active_cell_iterator, unsigned int>> faces;
+  for (const auto &cell : dofs.active_cell_iterators())
+    for (const auto f : cell->face_indices())
+      if (cell->face(f)->at_boundary())
+        {
+          bool all = true;
+          for (unsigned int v = 0; v < 4; ++v) all &= set.count(MeshNode{true, cell->face(f)->vertex_index(v), {0, 0}}) > 0;
+          if (all) faces.emplace_back(cell, f);
+        }
+  return faces;
+}
+} // namespace
+
+Vector<double> SolidModel::load_vector(const LoadCase &load_case) const
+{
+  Assert(level == 0, ExcMessage("static loads on the unrefined mesh only"));
+  Vector<double> f(dofs.n_dofs());
+  const unsigned int n = fe->n_dofs_per_cell();
+  std::vector<types::global_dof_index> local(n);
+  for (const auto &load : load_case.node_set_forces)
+    {
+      const auto &nodes = body.mesh->node_sets.at(load.node_set);
+      const auto faces = faces_of(dofs, nodes);
+      if (faces.empty())
+        {
+          // No whole face (a point, an edge): equal shares per node that carries dofs.
+          std::vector<std::vector<types::global_dof_index>> at;
+          for (const auto &node : nodes)
+            if (auto d = node_dofs(node); !d.empty()) at.push_back(d);
+          for (const auto &d : at)
+            for (unsigned int c = 0; c < 3; ++c) f[d[c]] += load.force[c] / at.size();
+          continue;
+        }
+      // A uniform traction t = F / area: f_i = int_faces N_i t dA.
+      const QGauss<2> rule(body.gauss_points);
+      FEFaceValues<3> values(*map, *fe, rule, update_values | update_JxW_values);
+      double area = 0;
+      for (const auto &[cell, face] : faces)
+        {
+          values.reinit(cell, face);
+          for (unsigned int q = 0; q < rule.size(); ++q) area += values.JxW(q);
+        }
+      const Tensor<1, 3> traction = load.force / area;
+      for (const auto &[cell, face] : faces)
+        {
+          values.reinit(cell, face);
+          cell->get_dof_indices(local);
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int c = fe->system_to_component_index(i).first;
+              for (unsigned int q = 0; q < rule.size(); ++q) f[local[i]] += traction[c] * values.shape_value(i, q) * values.JxW(q);
+            }
+        }
+    }
+  if (load_case.gravity.norm() > 0)
+    {
+      const QGauss<3> rule(body.gauss_points);
+      FEValues<3> values(*map, *fe, rule, update_values | update_JxW_values);
+      const Tensor<1, 3> weight = body.material.density * load_case.gravity;
+      for (const auto &cell : dofs.active_cell_iterators())
+        {
+          values.reinit(cell);
+          cell->get_dof_indices(local);
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int c = fe->system_to_component_index(i).first;
+              for (unsigned int q = 0; q < rule.size(); ++q) f[local[i]] += weight[c] * values.shape_value(i, q) * values.JxW(q);
+            }
+        }
+    }
+  return f;
+}
+
+Resultant SolidModel::nodal_resultant(const Vector<double> &r) const
+{
+  const auto points = support_points();
+  std::vector<unsigned int> component(dofs.n_dofs());
+  std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      cell->get_dof_indices(local);
+      for (unsigned int i = 0; i < local.size(); ++i) component[local[i]] = fe->system_to_component_index(i).first;
+    }
+  Resultant total;
+  for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+    {
+      Tensor<1, 3> F;
+      F[component[i]] = r[i];
+      total.force += F;
+      total.moment += cross_product_3d(Tensor<1, 3>(points[i]), F);
+    }
+  return total;
+}
+
+Tensor<1, 3> SolidModel::mean_displacement(const std::string &set, const Vector<double> &u) const
+{
+  Tensor<1, 3> sum;
+  unsigned int count = 0;
+  for (const auto &node : body.mesh->node_sets.at(set))
+    if (const auto d = node_dofs(node); !d.empty())
+      {
+        for (unsigned int c = 0; c < 3; ++c) sum[c] += u[d[c]];
+        ++count;
+      }
+  return count ? sum / count : sum;
+}
+} // namespace flextrack::fem

@@ -1,0 +1,33 @@
+# 'flextrack static' (issue 12): an arm scene's load cases solved on the full FE model. Included
+# from tests/CMakeLists.txt (the flextrack target is defined there).
+function(flextrack_static_test name prm)
+  add_test(NAME ${name}
+    COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:flextrack> -DPRM=${CMAKE_CURRENT_SOURCE_DIR}/input/${prm}
+            -DOUT=${CMAKE_CURRENT_BINARY_DIR}/static_output/${name} ${ARGN}
+            -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_static.cmake)
+endfunction()
+
+# Straight cantilever L = 3 m, circle d = 0.01 m, steel, tip force 1 N: Timoshenko closed form
+# d = P L^3 / (3 EI) + P L / (k G A) = 0.08730838804 m (k = 6 (1 + nu) / (7 + 6 nu), Cowper), exact
+# for cubic elements: the printed tip displacement must show these 10 digits; the reactions
+# balance the load to the round-off of K u for this slender arm (L/d = 300, cond(K) about 1e12):
+# printed |F + R| below 1e-8 N (measured 6e-11 N).
+flextrack_static_test(cli_static_cantilever_matches_closed_form static_cantilever.prm
+  "-DEXPECT_OUTPUT_1=s = 3 m:  u = \\([^,]*, -0.08730838804[0-9]*, [^)]*\\) m"
+  "-DEXPECT_OUTPUT_2=equilibrium: +\\|F \\+ R\\| = ([0-9.]+e-(09|1[0-9]|[2-9][0-9])|0.00e\\+00) N")
+set_tests_properties(cli_static_cantilever_matches_closed_form PROPERTIES LABELS cli)
+
+# Bad input: one line naming the file, the entry and what is allowed; exit 2; nothing written.
+flextrack_static_test(cli_bad_input_static_load_beyond_arm static_load_beyond_arm.prm
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*static_load_beyond_arm.prm: entry 'Load case tip/Point forces': point force at s = 3.5 m lies beyond the arm \\(its length is L = 3 m\\); allowed: 0 <= s <= L\n$")
+flextrack_static_test(cli_bad_input_static_nonfinite_load static_nonfinite_load.prm
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*static_nonfinite_load.prm: entry 'Load case tip/Point forces': 'nan' is not a finite number \\(a component \\[N\\]\\)\n$")
+flextrack_static_test(cli_bad_input_static_nonfinite_gravity static_nonfinite_gravity.prm
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*static_nonfinite_gravity.prm: entry 'Load case weight/Gravity': 'inf' is not a finite number")
+flextrack_static_test(cli_bad_input_static_reversed_line_load static_reversed_line_load.prm
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*static_reversed_line_load.prm: entry 'Load case weight/Line loads': .*allowed: S0 < S1\n$")
+set_tests_properties(cli_bad_input_static_load_beyond_arm cli_bad_input_static_nonfinite_load
+  cli_bad_input_static_nonfinite_gravity cli_bad_input_static_reversed_line_load PROPERTIES LABELS "cli;badinput")
+flextrack_static_test(cli_bad_input_static_unknown_node_set static_unknown_node_set.prm
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*static_unknown_node_set.prm: entry 'Load case extension/Node set forces': node set 'TIP' does not exist in box [^\n]*; allowed: XMAX, XMIN, YMAX, YMIN, ZMAX, ZMIN\n$")
+set_tests_properties(cli_bad_input_static_unknown_node_set PROPERTIES LABELS "cli;badinput")
