@@ -12,13 +12,18 @@
 #include <io/body_scene.h>
 #include <io/mode_shape_writer.h>
 #include <io/output_folder.h>
+#include <reduction/modal_participation.h>
 #include <reduction/modal_solver.h>
+
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/component_mask.h>
 
 #include <deal.II/base/timer.h>
 
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <optional>
 #include <iostream>
 #include <sstream>
 
@@ -128,6 +133,74 @@ std::string describe(const io::ArmScene &scene)
       << " elements of degree " << scene.arm.degree;
   return d.str();
 }
+/// The component (0..5 for arms: u then theta; 0..2 for solids) of every dof.
+template <int dim>
+std::vector<unsigned int> dof_components(const DoFHandler<dim, 3> &dofs)
+{
+  std::vector<unsigned int> component(dofs.n_dofs(), 0);
+  const unsigned int n = dofs.get_fe().n_components();
+  for (unsigned int c = 0; c < n; ++c)
+    {
+      std::vector<bool> mask(n, false);
+      mask[c] = true;
+      for (const auto i : DoFTools::extract_dofs(dofs, ComponentMask(mask))) component[i] = c;
+    }
+  return component;
+}
+
+/// Participation factors and effective masses of the modes (one process only: the matrices of
+/// a solid under mpirun are distributed).
+std::optional<reduction::ModalParticipation> participation(const Model &model, const reduction::Modes &modes)
+{
+  if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1) return std::nullopt;
+  if (model.arm)
+    return reduction::modal_participation(modes.shapes, model.arm->mass_matrix(), dof_components(model.arm->dof_handler()));
+  return reduction::modal_participation(modes.shapes, model.solid->mass_matrix(), dof_components(model.solid->dof_handler()));
+}
+
+/// The table of effective masses: per mode the fraction of r_d^T M r_d in x, y, z and the
+/// cumulative fractions; and the same as JSON.
+void print_participation(const reduction::ModalParticipation &p)
+{
+  std::cout << "\n  effective modal mass, fraction of the moving mass (x " << std::setprecision(6) << p.total_mass[0]
+            << ", y " << p.total_mass[1] << ", z " << p.total_mass[2] << " kg)\n"
+            << "  mode      x        y        z      sum x    sum y    sum z   dominant\n";
+  std::array<double, 3> sum{};
+  for (std::size_t k = 0; k < p.effective_mass.size(); ++k)
+    {
+      std::array<double, 3> f{};
+      unsigned int dominant = 0;
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          f[d] = p.total_mass[d] > 0 ? p.effective_mass[k][d] / p.total_mass[d] : 0.0;
+          sum[d] += f[d];
+          if (f[d] > f[dominant]) dominant = d;
+        }
+      std::cout << "  " << std::setw(4) << k + 1 << std::fixed << std::setprecision(4);
+      for (unsigned int d = 0; d < 3; ++d) std::cout << std::setw(9) << f[d];
+      for (unsigned int d = 0; d < 3; ++d) std::cout << std::setw(9) << sum[d];
+      std::cout << "   " << (f[dominant] > 1e-3 ? std::string(1, "xyz"[dominant]) : std::string("-")) << "\n"
+                << std::defaultfloat;
+    }
+}
+
+std::string participation_json(const reduction::ModalParticipation &p)
+{
+  io::JsonObject j;
+  j.add("total_moving_mass_kg", std::vector<double>(p.total_mass.begin(), p.total_mass.end()));
+  for (unsigned int d = 0; d < 3; ++d)
+    {
+      std::vector<double> gamma, fraction;
+      for (std::size_t k = 0; k < p.factors.size(); ++k)
+        {
+          gamma.push_back(p.factors[k][d]);
+          fraction.push_back(p.total_mass[d] > 0 ? p.effective_mass[k][d] / p.total_mass[d] : 0.0);
+        }
+      const std::string axis(1, "xyz"[d]);
+      j.add("participation_factor_" + axis + "_sqrt_kg", gamma).add("effective_mass_fraction_" + axis, fraction);
+    }
+  return j.str(2);
+}
 } // namespace
 
 int modes_command(const Options &options, const io::SceneFile &file)
@@ -141,6 +214,7 @@ int modes_command(const Options &options, const io::SceneFile &file)
   Model model;
   const ModalRun run = analyse(scene, 0, timer, &model);
   const std::vector<double> f = run.modes.frequencies_hz();
+  const auto masses = participation(model, run.modes);
 
   // Every computation has succeeded: now write the results.
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
@@ -167,6 +241,7 @@ int modes_command(const Options &options, const io::SceneFile &file)
     .add("mpi_processes", Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD))
     .add("frequencies_Hz", f)
     .add("eigenvalues_rad2_per_s2", run.modes.eigenvalues)
+    .raw("modal_participation", masses ? participation_json(*masses) : "null")
     .add("wall_time_s", io::timings_json(timer))
     .add("total_wall_time_s", clock.wall.wall_time())
     .add("peak_memory_MiB", io::peak_memory_mib())
@@ -178,6 +253,7 @@ int modes_command(const Options &options, const io::SceneFile &file)
             << "  mode  frequency [Hz]\n";
   for (std::size_t k = 0; k < f.size(); ++k)
     std::cout << "  " << std::setw(4) << k + 1 << "  " << std::setprecision(10) << f[k] << "\n";
+  if (masses) print_participation(*masses);
   print_timings(clock);
   std::cout << "  results in " << out.path() << "/ (frequencies.csv, summary.json"
             << (scene.output.mode_shapes ? ", mode_shapes.pvd" : "") << ")" << std::endl;
