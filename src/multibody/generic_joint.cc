@@ -53,7 +53,14 @@ GenericJoint::GenericJoint(std::string name, std::unique_ptr<Marker> follower, s
                       std::string("rotation about ") + axis_name[c] + " (e1_" + axis_name[a] + " . e2_" + axis_name[b] + ")"});
     }
   if (driver == DriverKind::angle) rows.push_back({RowKind::angle, 0, 0, false, "driven angle about z"});
-  if (driver == DriverKind::own_coordinate) rows.push_back({RowKind::own, 0, 0, true, "driven arc length s"});
+  if (driver == DriverKind::own_coordinate) add_own_driver(markers[0]->n_own_coordinates(), law, "driven arc length s");
+}
+
+void GenericJoint::add_own_driver(const unsigned int index, std::shared_ptr<const geometry::Expression> own_law,
+                                  const std::string &row_name)
+{
+  Assert(index < n_own_coordinates() && own_law, ExcMessage("no such own coordinate, or no law"));
+  rows.push_back({RowKind::own, index, 0, true, row_name, std::move(own_law)});
 }
 
 unsigned int GenericJoint::n_own_coordinates() const
@@ -115,9 +122,12 @@ void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const dou
               break;
             }
           case RowKind::own: // s - s(t): no marker gradient; its B_own entry is set in evaluate()
-            phi[r] = own_of(1, own_q)[0] - s.value();
-            phi_t[r] = -s.derivative(1);
-            break;
+            {
+              const geometry::Jet s_d = row.own_law->jet(t);
+              phi[r] = own_q[row.a] - s_d.value();
+              phi_t[r] = -s_d.derivative(1);
+              break;
+            }
         }
     }
 }
@@ -150,7 +160,7 @@ void GenericJoint::evaluate(const std::vector<const double *> &q, const double *
       own_column += n_own;
     }
   for (unsigned int r = 0; r < rows.size(); ++r)
-    if (rows[r].kind == RowKind::own) e.B_own(r, markers[0]->n_own_coordinates()) = 1;
+    if (rows[r].kind == RowKind::own) e.B_own(r, rows[r].a) = 1;
 }
 
 void GenericJoint::reaction(const std::vector<const double *> &q, const double *own_q, const double t,

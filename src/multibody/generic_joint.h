@@ -54,6 +54,10 @@ public:
 
   const Marker &marker(unsigned int i) const { return *markers[i]; }
 
+protected:
+  /// Adds the driver row  own coordinate @p index = @p law(t)  (a track's arc length).
+  void add_own_driver(unsigned int index, std::shared_ptr<const geometry::Expression> law, const std::string &name);
+
 private:
   enum class RowKind { translation, rotation, angle, own };
   struct Row
@@ -62,6 +66,7 @@ private:
     unsigned int a = 0, b = 0; // translation: axis a; rotation: e_i,a . e_j,b
     bool driven = false;       // translation with s(t)
     std::string name;
+    std::shared_ptr<const geometry::Expression> own_law; // own: coordinate a = own_law(t)
   };
   /// Gradient of row values w.r.t. x = (r_i, e_i[3], r_j, e_j[3]): 8 vectors per row.
   using Gradient = std::array<Vector3, 8>;

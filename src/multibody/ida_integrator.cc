@@ -134,6 +134,10 @@ void IntegratorSettings::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Relative tolerance", "1e-6", Patterns::Double(0), "IDA's relative tolerance [-].");
   prm.declare_entry("Absolute tolerance", "1e-8", Patterns::Double(0),
                     "IDA's absolute tolerance, the same for every unknown [m, rad, modal units, and per s].");
+  prm.declare_entry("Velocity tolerance", "0", Patterns::Double(0),
+                    "IDA's absolute tolerance of the velocities [m/s, rad/s, modal units/s], 0 to 1e6; 0: the "
+                    "absolute tolerance. A value about the absolute tolerance times the highest angular "
+                    "frequency of interest [rad/s] lets IDA step over stiff elastic modes that do not matter.");
   prm.declare_entry("Multiplier tolerance", "1e-2", Patterns::Double(0),
                     "Absolute tolerance of the Lagrange multipliers in IDA's Newton test [N, N m, 1/s] (they "
                     "are not in the error test).");
@@ -147,6 +151,7 @@ void IntegratorSettings::parse_parameters(ParameterHandler &prm)
 {
   relative_tolerance = prm.get_double("Relative tolerance");
   absolute_tolerance = prm.get_double("Absolute tolerance");
+  velocity_tolerance = prm.get_double("Velocity tolerance");
   multiplier_tolerance = prm.get_double("Multiplier tolerance");
   max_order = prm.get_integer("Maximum order");
   max_step = prm.get_double("Maximum step");
@@ -181,8 +186,11 @@ void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
   IDAInit(sun->ida, IdaCallbacks::residual, t0, sun->y, sun->yp);
   IDASetUserData(sun->ida, this);
   N_Vector atol = N_VClone(sun->y);
+  const double v_tol = settings.velocity_tolerance > 0 ? settings.velocity_tolerance : settings.absolute_tolerance;
   for (sunindextype i = 0; i < n; ++i)
-    N_VGetArrayPointer(atol)[i] = id[i] > 0 ? settings.absolute_tolerance : settings.multiplier_tolerance;
+    N_VGetArrayPointer(atol)[i] = id[i] == 0                 ? settings.multiplier_tolerance
+                                  : i < sunindextype(system.n_q()) ? settings.absolute_tolerance
+                                                                   : v_tol;
   IDASVtolerances(sun->ida, settings.relative_tolerance, atol);
   N_VDestroy(atol);
   IDASetId(sun->ida, sun->id);

@@ -29,7 +29,11 @@ namespace flextrack::multibody
 struct IntegratorSettings
 {
   double relative_tolerance = 1e-6; ///< [-]
-  double absolute_tolerance = 1e-8; ///< [units of q and v]
+  double absolute_tolerance = 1e-8; ///< [units of q, and of v unless velocity_tolerance is set]
+  /// Absolute tolerance of the velocities [m/s, rad/s, modal units/s]; 0: absolute_tolerance.
+  /// A looser one lets IDA step over stiff elastic modes whose vibration is far below the
+  /// position tolerance but whose velocity (omega times larger) is not below a tight one.
+  double velocity_tolerance = 0;
   /// Absolute tolerance of the multipliers lambda, mu [N, N m, 1/s]. They are excluded from the
   /// error test, so this enters only IDA's Newton convergence test, where a tight value fails:
   /// index-2 multipliers carry roundoff amplified by c_j ~ 1/h (mu ~ eps |q| / h).

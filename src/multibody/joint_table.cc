@@ -105,28 +105,99 @@ std::string number_text(const double x)
   return m.str();
 }
 
-/// The arm called @p arm of body @p b, with its geometry; InputError naming @p prefix + "Arm".
-const reduction::ArmModeData &track_arm(const Body &b, const std::string &arm, const std::string &prefix)
+/// The arm called @p arm of body @p b, with its geometry; InputError naming @p entry.
+const reduction::ArmModeData &track_arm(const Body &b, const std::string &arm, const std::string &entry)
 {
   const auto *floating = dynamic_cast<const FloatingBody *>(&b);
   const reduction::ReducedBody *reduced = floating ? floating->source() : nullptr;
   if (!reduced)
-    throw InputError(prefix + "Body 2", "body '" + b.name() + "' has no arms to slide along (only a flexible body, "
-                                        "or one made rigid, has arms)");
+    throw InputError(entry, "body '" + b.name() + "' has no arms to slide along (only a flexible body, or one made "
+                            "rigid, has arms)");
   std::string allowed;
   for (const auto &a : reduced->arms)
     {
       if (a.name == arm)
         {
           if (!a.curve || !a.frame)
-            throw InputError(prefix + "Arm", "the reduced body of '" + b.name() + "' does not store the geometry of arm '" +
-                                               arm + "' (a file written before tracks existed): reduce it again");
+            throw InputError(entry, "the reduced body of '" + b.name() + "' does not store the geometry of arm '" + arm +
+                                      "' (an arm built in code): it cannot carry a track");
           return a;
         }
       allowed += (allowed.empty() ? "" : ", ") + a.name;
     }
-  throw InputError(prefix + "Arm", "body '" + b.name() + "' has no arm '" + base::printable_excerpt(arm) + "'; allowed: " +
-                                     (allowed.empty() ? "none (it has no arms)" : allowed));
+  throw InputError(entry, "body '" + b.name() + "' has no arm '" + base::printable_excerpt(arm) + "'; allowed: " +
+                            (allowed.empty() ? "none (it has no arms)" : allowed));
+}
+
+/// One contact of a track joint as the scene gives it: entries "Arm", "Sliding", "Driver",
+/// "Friction", "Start arc length", "Start speed", each followed by @p suffix ("" for the track on
+/// body 2, " 1" for a sleeve's track on body 1).
+struct ContactInput
+{
+  const reduction::ArmModeData *arm;
+  TrackSliding sliding;
+  double s0 = 0, s0_rate = 0;
+};
+
+ContactInput parse_contact(ParameterHandler &prm, const std::string &prefix, const Body &carrier, const std::string &suffix)
+{
+  ContactInput c;
+  c.arm = &track_arm(carrier, base::trim(prm.get("Arm" + suffix)), prefix + "Arm" + suffix);
+  const double L = c.arm->curve->length();
+  const std::string drive = prm.get("Sliding" + suffix), driver_entry = prefix + "Driver" + suffix;
+  c.sliding.drive = drive == "force" ? TrackDrive::force : drive == "motion" ? TrackDrive::motion : TrackDrive::free;
+  c.sliding.friction = geometry::get_number(prm, "Friction" + suffix, prefix, {0, 1e12, true, "N s/m"});
+  const std::string law_text = base::trim(prm.get("Driver" + suffix));
+  if (c.sliding.drive != TrackDrive::free)
+    {
+      if (law_text.empty())
+        throw InputError(driver_entry, "Sliding" + suffix + " = " + drive + " needs an expression of t: the " +
+                                         (c.sliding.drive == TrackDrive::force ? "tangential force [N]" : "arc length [m]"));
+      try
+        {
+          c.sliding.law = std::make_shared<geometry::Expression>(law_text, "t");
+        }
+      catch (const geometry::ExpressionError &e)
+        {
+          throw InputError(driver_entry, e.what());
+        }
+    }
+  else if (!law_text.empty())
+    throw InputError(driver_entry, "a freely sliding contact takes no driver; set 'Sliding" + suffix + " = force' or 'motion'");
+
+  c.s0 = geometry::get_number(prm, "Start arc length" + suffix, prefix, {0, 1e6, true, "m"});
+  c.s0_rate = geometry::get_number(prm, "Start speed" + suffix, prefix, {-1e6, 1e6, true, "m/s"});
+  if (c.sliding.drive == TrackDrive::motion) // the drive decides where the contact starts
+    {
+      const geometry::Jet start = c.sliding.law->jet(0.0);
+      c.s0 = start.value();
+      c.s0_rate = start.derivative(1);
+      if (!(c.s0 >= 0 && c.s0 <= L))
+        throw InputError(driver_entry, "puts the contact at s = " + number_text(c.s0) + " m at t = 0, off arm '" +
+                                         c.arm->name + "' (0 to " + number_text(L) + " m)");
+    }
+  else if (c.s0 > L)
+    throw InputError(prefix + "Start arc length" + suffix, number_text(c.s0) + " m is beyond the end of arm '" +
+                                                             c.arm->name + "' (" + number_text(L) + " m)");
+  return c;
+}
+
+std::unique_ptr<TrackMarker> make_track(const Body &carrier, const std::string &name, const ContactInput &c)
+{
+  auto field = carrier.n_modes() ? std::make_shared<reduction::ArmModeField>(*c.arm) : nullptr;
+  return std::make_unique<TrackMarker>(carrier, name, c.arm->curve, c.arm->frame, field, c.s0, c.s0_rate);
+}
+
+/// Position and axes (columns, global) of @p track at the start.
+MarkerKinematics initial_pose(const Marker &m, const double s0, Matrix3 &axes)
+{
+  std::vector<double> q(m.body().n_q()), v(m.body().n_v());
+  m.body().initial_coordinates(q.data(), v.data());
+  MarkerKinematics k;
+  m.evaluate(q.data(), &s0, k);
+  for (unsigned int a = 0; a < 3; ++a)
+    for (unsigned int b = 0; b < 3; ++b) axes[b][a] = k.axes[a][b];
+  return k;
 }
 
 std::unique_ptr<Joint> make_track_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,
@@ -135,57 +206,13 @@ std::unique_ptr<Joint> make_track_joint(const std::string &name, ParameterHandle
   const std::string prefix = "Joint " + name + "/";
   const Body &slider = body_entry(prm, "Body 1", prefix, bodies), &carrier = body_entry(prm, "Body 2", prefix, bodies);
   if (&slider == &carrier) throw InputError(prefix + "Body 2", "joins body '" + slider.name() + "' to itself");
-  const reduction::ArmModeData &arm = track_arm(carrier, base::trim(prm.get("Arm")), prefix);
-  const double L = arm.curve->length();
-
-  TrackSliding sliding;
-  const std::string drive = prm.get("Sliding");
-  sliding.drive = drive == "force" ? TrackDrive::force : drive == "motion" ? TrackDrive::motion : TrackDrive::free;
-  sliding.friction = geometry::get_number(prm, "Friction", prefix, {0, 1e12, true, "N s/m"});
-  const std::string law_text = base::trim(prm.get("Driver"));
-  if (sliding.drive != TrackDrive::free)
-    {
-      if (law_text.empty())
-        throw InputError(prefix + "Driver", "Sliding = " + drive + " needs an expression of t: the " +
-                                              (sliding.drive == TrackDrive::force ? "tangential force [N]" : "arc length [m]"));
-      try
-        {
-          sliding.law = std::make_shared<geometry::Expression>(law_text, "t");
-        }
-      catch (const geometry::ExpressionError &e)
-        {
-          throw InputError(prefix + "Driver", e.what());
-        }
-    }
-  else if (!law_text.empty())
-    throw InputError(prefix + "Driver", "a freely sliding contact takes no driver; set 'Sliding = force' or 'motion'");
-
-  double s0 = geometry::get_number(prm, "Start arc length", prefix, {0, 1e6, true, "m"});
-  double s0_rate = geometry::get_number(prm, "Start speed", prefix, {-1e6, 1e6, true, "m/s"});
-  if (sliding.drive == TrackDrive::motion) // the drive decides where the contact starts
-    {
-      const geometry::Jet start = sliding.law->jet(0.0);
-      s0 = start.value();
-      s0_rate = start.derivative(1);
-      if (!(s0 >= 0 && s0 <= L))
-        throw InputError(prefix + "Driver", "puts the contact at s = " + number_text(s0) + " m at t = 0, off arm '" +
-                                              arm.name + "' (0 to " + number_text(L) + " m)");
-    }
-  else if (s0 > L)
-    throw InputError(prefix + "Start arc length", number_text(s0) + " m is beyond the end of arm '" + arm.name +
-                                                    "' (" + number_text(L) + " m)");
-
-  auto field = carrier.n_modes() ? std::make_shared<reduction::ArmModeField>(arm) : nullptr;
-  auto track = std::make_unique<TrackMarker>(carrier, name + "_track", arm.curve, arm.frame, field, s0, s0_rate);
+  const ContactInput contact = parse_contact(prm, prefix, carrier, "");
+  auto track = make_track(carrier, name + "_on_" + contact.arm->name, contact);
   // The slider's marker: at the contact's initial place, with the contact's axes.
-  std::vector<double> q2(carrier.n_q()), v2(carrier.n_v()), q1(slider.n_q()), v1(slider.n_v());
-  carrier.initial_coordinates(q2.data(), v2.data());
-  slider.initial_coordinates(q1.data(), v1.data());
-  MarkerKinematics k;
-  track->evaluate(q2.data(), &s0, k);
   Matrix3 axes;
-  for (unsigned int a = 0; a < 3; ++a)
-    for (unsigned int b = 0; b < 3; ++b) axes[b][a] = k.axes[a][b];
+  const MarkerKinematics k = initial_pose(*track, contact.s0, axes);
+  std::vector<double> q1(slider.n_q()), v1(slider.n_v());
+  slider.initial_coordinates(q1.data(), v1.data());
   std::unique_ptr<Marker> follower;
   try
     {
@@ -196,7 +223,35 @@ std::unique_ptr<Joint> make_track_joint(const std::string &name, ParameterHandle
     {
       throw InputError(prefix + "Interface 1", e.message());
     }
-  return std::make_unique<TrackJoint>(name, std::move(follower), std::move(track), mask, sliding);
+  return std::make_unique<TrackJoint>(name, std::move(follower), std::move(track), mask, contact.sliding);
+}
+
+std::unique_ptr<Joint> make_sleeve(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,
+                                   const JointMask &mask)
+{
+  const std::string prefix = "Joint " + name + "/";
+  const Body &body_1 = body_entry(prm, "Body 1", prefix, bodies), &body_2 = body_entry(prm, "Body 2", prefix, bodies);
+  const ContactInput c1 = parse_contact(prm, prefix, body_1, " 1"), c2 = parse_contact(prm, prefix, body_2, "");
+  if (&body_1 == &body_2 && c1.arm == c2.arm)
+    throw InputError(prefix + "Arm 1", "a sleeve joins two different arms; both are arm '" + c1.arm->name + "' of body '" +
+                                         body_1.name() + "'");
+  auto track_1 = make_track(body_1, name + "_on_" + c1.arm->name, c1);
+  auto track_2 = make_track(body_2, name + "_on_" + c2.arm->name, c2);
+  Matrix3 axes_1, axes_2;
+  const MarkerKinematics k1 = initial_pose(*track_1, c1.s0, axes_1), k2 = initial_pose(*track_2, c2.s0, axes_2);
+  // The arms must meet at the two arc lengths (the initial-condition projection fixes round-off,
+  // not a misplaced body).
+  const double gap = (k1.position - k2.position).norm(),
+               allowed = 1e-3 * (c1.arm->curve->length() + c2.arm->curve->length());
+  if (!(gap <= allowed))
+    throw InputError(prefix + "Start arc length 1",
+                     "arm '" + c1.arm->name + "' at s = " + number_text(c1.s0) + " m and arm '" + c2.arm->name +
+                       "' at s = " + number_text(c2.s0) + " m are " + number_text(gap) +
+                       " m apart at the start; a sleeve needs them to meet (within " + number_text(allowed) +
+                       " m): move a body or change the arc lengths");
+  // Hold arm II at its initial angle to arm I: its marker axes are offset onto arm I's.
+  track_1->set_axes_offset(transpose(axes_1) * axes_2);
+  return std::make_unique<TrackJoint>(name, std::move(track_1), std::move(track_2), mask, c1.sliding, c2.sliding);
 }
 
 JointKind track_kind(const std::string &name, const std::string &doc, const JointMask mask)
@@ -237,6 +292,12 @@ const std::vector<JointKind> &joint_kinds()
                M{{{true, true, true}}, {{true, true, false}}}),
     track_kind("prismatic_on_track", "body 1 slides along arm 'Arm' of body 2 with its frame locked to the arm's "
                                      "section frame (a slider)", M{{{true, true, true}}, {{true, true, true}}}),
+    {"double_arm_sleeve",
+     "a sleeve sliding along arm 'Arm' of body 2 (s_I) that holds arm 'Arm 1' of body 1 (s_II) at the angle the two "
+     "arms make at the start (seed eqs. 41-43); entries ending in ' 1' set arm II's contact",
+     [](const std::string &n, ParameterHandler &prm, const BodyLookup &b) {
+       return make_sleeve(n, prm, b, JointMask{{{true, true, true}}, {{true, true, true}}});
+     }},
   };
   return kinds;
 }
@@ -278,6 +339,19 @@ void declare_joint_parameters(ParameterHandler &prm)
                     "or 'motion' (s prescribed, Driver).");
   prm.declare_entry("Friction", "0", Patterns::Double(),
                     "Track joints: viscous friction along the track, force = -c s' [N s/m], 0 to 1e12.");
+  // The second contact of a double-arm sleeve, on arm 'Arm 1' of body 1.
+  prm.declare_entry("Arm 1", "", Patterns::Anything(), "Double-arm sleeve: the arm of body 1 (arm II) it holds [-].");
+  prm.declare_entry("Start arc length 1", "0", Patterns::Double(),
+                    "Double-arm sleeve: arc length s_II on arm 1 at the start [m], 0 to the arm's length.");
+  prm.declare_entry("Start speed 1", "0", Patterns::Double(),
+                    "Double-arm sleeve: s_II' at the start [m/s], at most 1e6 in size.");
+  prm.declare_entry("Sliding 1", "free", Patterns::Selection("free|force|motion"),
+                    "Double-arm sleeve: how arm 1 moves through the sleeve: 'free', 'force' or 'motion' (Driver 1).");
+  prm.declare_entry("Driver 1", "", Patterns::Anything(),
+                    "Double-arm sleeve: tangential force [N] (Sliding 1 = force) or s_II(t) [m] (Sliding 1 = motion) "
+                    "as an expression of t [s].");
+  prm.declare_entry("Friction 1", "0", Patterns::Double(),
+                    "Double-arm sleeve: viscous friction along arm 1, force = -c s_II' [N s/m], 0 to 1e12.");
 }
 
 std::unique_ptr<Joint> create_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies)

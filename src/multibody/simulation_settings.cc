@@ -97,6 +97,8 @@ SimulationSettings SimulationSettings::parse_parameters(ParameterHandler &prm)
   // Zero tolerances are legal numbers but leave IDA an error weight of 1/0.
   if (!(s.integrator.absolute_tolerance > 0))
     throw InputError("Multibody/Integrator/Absolute tolerance", "must be > 0 (m, rad, modal units and per s)");
+  if (!(s.integrator.velocity_tolerance <= 1e6))
+    throw InputError("Multibody/Integrator/Velocity tolerance", "must be >= 0 and <= 1e6 (m/s, rad/s, modal units/s)");
   if (!(s.integrator.multiplier_tolerance > 0))
     throw InputError("Multibody/Integrator/Multiplier tolerance", "must be > 0 (N, N m, 1/s)");
   if (!(s.integrator.relative_tolerance < 1))

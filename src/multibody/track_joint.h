@@ -11,7 +11,8 @@
 //   force   Q_s = F(t) - c s'      (a tangential drive force F [N], an expression of t)
 //   motion  s = s_d(t)             (a driver row; s_d an expression of t [m])
 // The ends of the track are limits (s = 0, s = L): the integrator stops there and the run
-// reports the time, the joint, s and the speed.
+// reports the time, the joint, s and the speed. A sleeve between two arms has two contacts, each
+// with its own s, sliding law and limits.
 #pragma once
 
 #include <geometry/expression.h>
@@ -34,18 +35,29 @@ struct TrackSliding
 class TrackJoint : public GenericJoint
 {
 public:
+  /// A contact on a track of body 2 holding a marker of body 1.
   TrackJoint(std::string name, std::unique_ptr<Marker> slider, std::unique_ptr<TrackMarker> track,
              const JointMask &mask, const TrackSliding &sliding);
+  /// The double flexible arm sleeve (seed eqs. 41-43): contacts on an arm of body 1 (arm II,
+  /// @p track_1, own coordinate s_II) and on an arm of body 2 (arm I, @p track_2, s_I) held together
+  /// by the mask's rows, @p track_1's axes offset to coincide with @p track_2's at the start.
+  TrackJoint(std::string name, std::unique_ptr<TrackMarker> track_1, std::unique_ptr<TrackMarker> track_2,
+             const JointMask &mask, const TrackSliding &sliding_1, const TrackSliding &sliding_2);
 
   void own_forces(const double *own_q, const double *own_v, double t, double *applied,
                   double *dissipative) const override;
-  unsigned int n_limits() const override { return 2; }
+  unsigned int n_limits() const override { return 2 * contacts.size(); }
   void limits(const double *own_q, double *g) const override;
   std::string limit_report(unsigned int k, const double *own_q, const double *own_v) const override;
 
-  const TrackMarker &track() const { return static_cast<const TrackMarker &>(marker(1)); }
-
 private:
-  TrackSliding sliding;
+  struct Contact
+  {
+    unsigned int own;         ///< index among the joint's own coordinates
+    const TrackMarker *track;
+    TrackSliding sliding;
+  };
+  void add_contact(unsigned int own, const TrackSliding &sliding);
+  std::vector<Contact> contacts;
 };
 } // namespace flextrack::multibody

@@ -16,6 +16,7 @@ TrackMarker::TrackMarker(const Body &body, std::string name, std::shared_ptr<con
   : Marker(body, std::move(name)), curve(std::move(curve_)), frame(std::move(frame_)), field(std::move(field_)),
     s_start(s0), s_rate(s0_rate)
 {
+  for (unsigned int a = 0; a < 3; ++a) axes_offset[a][a] = 1;
   Assert(curve && frame, ExcMessage("a track needs its curve and section frame"));
   if (body.n_modes() > 0 && (!field || field->data().n_modes != body.n_modes()))
     throw std::invalid_argument("the mode fields of the track do not match the modes of body '" + body.name() + "'");
@@ -38,7 +39,7 @@ Matrix3 TrackMarker::section_axes(const double s) const
       a[i][1] = d3[i];
       a[i][2] = g.tangent[i];
     }
-  return a;
+  return a * axes_offset;
 }
 
 void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics &k) const
@@ -60,10 +61,17 @@ void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics 
   const bool inside = beyond == 0;
   const Vector3 t = g.tangent, t_s = inside ? Vector3(g.derivative[1]) : Vector3();
   const Vector3 d2 = frame->y_axis(s_on), d2_s = inside ? frame->y_axis_rate(g, d2) : Vector3();
-  const std::array<Vector3, 3> axis = {{d2, cross_product_3d(t, d2), t}};
-  const std::array<Vector3, 3> axis_s = {{d2_s, cross_product_3d(t_s, d2) + cross_product_3d(t, d2_s), t_s}};
+  const std::array<Vector3, 3> section = {{d2, cross_product_3d(t, d2), t}};
+  const std::array<Vector3, 3> section_s = {{d2_s, cross_product_3d(t_s, d2) + cross_product_3d(t, d2_s), t_s}};
+  std::array<Vector3, 3> axis, axis_s; // the marker's axes: section axes times the offset
+  for (unsigned int c = 0; c < 3; ++c)
+    for (unsigned int k = 0; k < 3; ++k)
+      {
+        axis[c] += axes_offset[k][c] * section[k];
+        axis_s[c] += axes_offset[k][c] * section_s[k];
+      }
   Vector3 darboux; // angular velocity of the section frame per unit s'
-  for (unsigned int a = 0; a < 3; ++a) darboux += 0.5 * cross_product_3d(axis[a], axis_s[a]);
+  for (unsigned int a = 0; a < 3; ++a) darboux += 0.5 * cross_product_3d(section[a], section_s[a]);
 
   // Mode fields at s: u, theta and their slopes.
   Vector3 u = Vector3(g.position) + beyond * t, u_s = t, theta, theta_s;

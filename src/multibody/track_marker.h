@@ -49,11 +49,15 @@ public:
 
   /// The undeformed section axes (d2, d3, t) at @p s, body axes: columns.
   Matrix3 section_axes(double s) const;
+  /// Marker axes = section axes times @p offset (a constant rotation, columns in section axes):
+  /// a sleeve holds its second arm at a fixed angle to the first (identity by default).
+  void set_axes_offset(const Matrix3 &offset) { axes_offset = offset; }
 
 private:
   std::shared_ptr<const geometry::Curve> curve;
   std::shared_ptr<const geometry::SectionFrame> frame;
   std::shared_ptr<const reduction::ArmModeField> field;
   double s_start, s_rate;
+  Matrix3 axes_offset;
 };
 } // namespace flextrack::multibody
