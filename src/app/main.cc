@@ -26,7 +26,7 @@ namespace
 const char *usage = R"(flextrack - flexible multibody systems on curved, flexible sliding tracks
 
 Usage:
-  flextrack                          run the default scene (modal analysis of prm/helix_arm.prm)
+  flextrack                          run the default scene (the laser robot, prm/laser_robot.prm)
   flextrack run FILE.prm [-o DIR]    simulate a multibody scene ('Model = multibody',
                                      doc/multibody.md); other scenes: as 'modes'
   flextrack linearize FILE.prm       frequencies and damping ratios of a multibody scene
@@ -64,9 +64,9 @@ Exit status: 0 success, 1 usage error, 2 bad input, 3 solver failure, 4 internal
 std::string default_scene()
 {
   // From the repository root, or wherever the program was built from.
-  for (const std::string candidate : {"prm/helix_arm.prm", FLEXTRACK_SOURCE_DIR "/prm/helix_arm.prm"})
+  for (const std::string candidate : {"prm/laser_robot.prm", FLEXTRACK_SOURCE_DIR "/prm/laser_robot.prm"})
     if (std::filesystem::exists(candidate)) return candidate;
-  return "prm/helix_arm.prm";
+  return "prm/laser_robot.prm";
 }
 
 int usage_error(const std::string &message)
@@ -202,7 +202,7 @@ std::string parse_options(const std::string &command, const std::vector<std::str
 
 int dispatch(std::vector<std::string> args, int *argc, char ***argv)
 {
-  if (args.empty()) args = {"modes", default_scene()};
+  if (args.empty()) args = {"run", default_scene()};
   const std::string &command = args[0];
   if (command == "--help" || command == "-h" || command == "help")
     {
