@@ -7,11 +7,13 @@
 // wrong, so they are committed (with summary.json saying "failed" and where), and the failure is
 // then reported with exit status 3.
 #include <app/commands.h>
+#include <base/external_program.h>
 #include <base/input_error.h>
 #include <base/solver_error.h>
 #include <io/animation_writer.h>
 #include <io/multibody_scene.h>
 #include <io/output_folder.h>
+#include <io/path_deviation.h>
 #include <io/run_results.h>
 #include <multibody/initial_conditions.h>
 #include <multibody/monitors.h>
@@ -21,7 +23,9 @@
 #include <deal.II/base/timer.h>
 
 #include <iomanip>
+#include <functional>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace flextrack::app
@@ -118,6 +122,81 @@ io::JsonObject initial_conditions_json(const multibody::InitialConditionReport &
     }
   return j;
 }
+/// Consistent initial conditions of @p scene at its start time; InputError naming the scene file.
+multibody::InitialConditionReport consistent_start(io::MultibodyScene &scene, Vector<double> &y, Vector<double> &yp)
+{
+  try
+    {
+      multibody::InitialConditionSettings initial;
+      initial.static_equilibrium = scene.settings.static_equilibrium;
+      return multibody::consistent_initial_conditions(*scene.system, scene.settings.start_time, y, yp, initial);
+    }
+  catch (const InputError &e)
+    {
+      throw e.file().empty() ? e.in_file(scene.file) : e;
+    }
+}
+
+/// Integrates with @p ida (initialised) to the end time of @p settings, calling @p output at every
+/// output time after the start. Returns "" when the end time is reached, else why not: the solver
+/// failure, or where the run stopped at the end of a track (IDA's root finding on the limits).
+std::string integrate(multibody::System &system, multibody::IdaIntegrator &ida, const multibody::SimulationSettings &settings,
+                      const std::function<void(double, const Vector<double> &)> &output)
+{
+  if (system.n_limits())
+    ida.set_root_functions(system.n_limits(), [&system](double, const Vector<double> &state, const Vector<double> &,
+                                                        double *g) { system.limit_values(state, g); });
+  try
+    {
+      ida.integrate(settings.end_time, settings.output_interval,
+                    [&](const double time, const Vector<double> &state, const Vector<double> &) { output(time, state); });
+    }
+  catch (const SolverError &e)
+    {
+      return e.what();
+    }
+  for (unsigned int i = 0; i < ida.roots_found().size(); ++i)
+    if (ida.roots_found()[i] != 0)
+      {
+        Vector<double> state, rate;
+        ida.interpolate(ida.time(), state, rate);
+        std::ostringstream m;
+        m << "at t = " << ida.time() << " s " << system.limit_report(i, state);
+        return m.str();
+      }
+  return "";
+}
+
+/// Multibody/Rigid reference: the scene of @p file run again with every body rigid, and the
+/// deviation of @p run's probe paths from its paths. A failure of that run (bad initial
+/// conditions, solver, end of track) goes to @p failure: the deviation then covers the rows it
+/// reached, and the main run's results are kept.
+io::PathDeviation rigid_reference_deviation(const io::SceneFile &file, const io::ProbePaths &run, TimerOutput &timer,
+                                            std::string &failure)
+{
+  std::ostringstream log; // the bodies were reported by the main run
+  io::MultibodyScene rigid = io::read_multibody_scene(file, log, timer, start_mpi_for_reduction, true);
+  io::ProbePaths paths(*rigid.system, rigid.probes);
+  try
+    {
+      Vector<double> y, yp;
+      consistent_start(rigid, y, yp);
+      multibody::IdaIntegrator ida(*rigid.system, rigid.settings.integrator);
+      ida.initialize(rigid.settings.start_time, y, yp);
+      paths.record(rigid.settings.start_time, y);
+      failure = integrate(*rigid.system, ida, rigid.settings,
+                          [&](const double time, const Vector<double> &state) { paths.record(time, state); });
+    }
+  catch (const InputError &e)
+    {
+      failure = e.what();
+    }
+  catch (const SolverError &e)
+    {
+      failure = e.what();
+    }
+  return io::PathDeviation(run, paths);
+}
 } // namespace
 
 void print_multibody_parameters()
@@ -148,34 +227,28 @@ int run_command(const Options &options, const io::SceneFile &file)
             << " probes; " << system.size() << " unknowns (" << system.n_q() << " positions, " << system.n_v()
             << " velocities, " << system.n_lambda() + system.n_mu() << " multipliers)" << std::endl;
 
+  if (settings.rigid_reference && scene.probes.empty())
+    throw InputError("Multibody/Rigid reference", "needs a probe: the deviation from the rigid run is measured at the "
+                                                  "probes (Multibody/Probes)", scene.file);
+
   Vector<double> y, yp;
   multibody::InitialConditionReport report;
   {
     TimerOutput::Scope t(timer, "initial conditions");
-    try
-      {
-        multibody::InitialConditionSettings initial;
-        initial.static_equilibrium = settings.static_equilibrium;
-        report = multibody::consistent_initial_conditions(system, settings.start_time, y, yp, initial);
-      }
-    catch (const InputError &e)
-      {
-        throw e.file().empty() ? e.in_file(scene.file) : e;
-      }
+    report = consistent_start(scene, y, yp);
   }
   std::cout << "  " << report.text();
 
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output_directory, options.file));
   io::RunRecorder recorder(system, scene.probes, out);
+  io::ProbePaths paths(system, scene.probes);
   multibody::IdaIntegrator ida(system, settings.integrator);
   multibody::Monitors monitors(system);
   ida.initialize(settings.start_time, y, yp);
-  if (system.n_limits()) // the ends of tracks: IDA's root finding stops the run there
-    ida.set_root_functions(system.n_limits(), [&system](double, const Vector<double> &state, const Vector<double> &,
-                                                        double *g) { system.limit_values(state, g); });
   monitors.attach(ida);
   const MonitorValues start = monitors.evaluate(settings.start_time, y);
   recorder.record(settings.start_time, y, start, 0.0);
+  paths.record(settings.start_time, y);
 
   std::unique_ptr<io::AnimationWriter> animation;
   double next_frame = settings.start_time;
@@ -192,37 +265,37 @@ int run_command(const Options &options, const io::SceneFile &file)
   std::string failure;
   {
     TimerOutput::Scope t(timer, "time integration");
-    try
-      {
-        ida.integrate(settings.end_time, settings.output_interval,
-                      [&](const double time, const Vector<double> &state, const Vector<double> &) {
-                        const MonitorValues m = monitors.evaluate(time, state);
-                        recorder.record(time, state, m, multibody::Monitors::balance_error(start, m));
-                        animate(time, state);
-                        progress.update(time, ida.statistics().steps);
-                      });
-      }
-    catch (const SolverError &e)
-      {
-        failure = e.what();
-      }
+    failure = integrate(system, ida, settings, [&](const double time, const Vector<double> &state) {
+      const MonitorValues m = monitors.evaluate(time, state);
+      recorder.record(time, state, m, multibody::Monitors::balance_error(start, m));
+      paths.record(time, state);
+      animate(time, state);
+      progress.update(time, ida.statistics().steps);
+    });
   }
   progress.finish();
-  for (unsigned int i = 0; i < ida.roots_found().size(); ++i)
-    if (ida.roots_found()[i] != 0 && failure.empty())
-      {
-        Vector<double> state, rate;
-        ida.interpolate(ida.time(), state, rate);
-        std::ostringstream m;
-        m << "at t = " << ida.time() << " s " << system.limit_report(i, state);
-        failure = m.str();
-      }
+
+  std::optional<io::PathDeviation> deviation;
+  std::string reference_failure;
+  if (settings.rigid_reference && failure.empty())
+    {
+      TimerOutput::Scope t(timer, "rigid reference run");
+      std::cout << "  rigid reference: the same scene with every body rigid" << std::endl;
+      deviation = rigid_reference_deviation(file, paths, timer, reference_failure);
+      if (!reference_failure.empty())
+        std::cout << "  warning: the rigid reference run failed (" << reference_failure << "); deviation over its "
+                  << deviation->n_rows() << " output rows only\n";
+      for (const auto &m : deviation->largest())
+        std::cout << "  probe " << m.probe << ": largest deviation from the rigid path " << std::setprecision(4)
+                  << 1e3 * m.distance << " mm at t = " << m.time << " s" << std::endl;
+    }
 
   {
     TimerOutput::Scope t(timer, "write results");
     recorder.write_hdf5(out);
     if (animation) animation->finish(out);
     out.add_parameters(*scene.parameters);
+    if (deviation) deviation->write(out);
   }
   {
     io::JsonObject drift;
@@ -244,7 +317,17 @@ int run_command(const Options &options, const io::SceneFile &file)
       .add("unknowns", system.size())
       .add("integrator", statistics_json(ida.statistics()))
       .add("initial_conditions", initial_conditions_json(report))
-      .add("max_over_output_rows", drift)
+      .add("max_over_output_rows", drift);
+    if (settings.rigid_reference)
+      {
+        io::JsonObject reference;
+        reference.add("status", deviation ? (reference_failure.empty() ? "completed" : "failed") : "skipped: the run failed")
+          .add("failure", reference_failure)
+          .add("rows_compared", deviation ? deviation->n_rows() : 0u)
+          .raw("largest_deviation", deviation ? deviation->json(6) : "[]");
+        summary.add("rigid_reference", reference);
+      }
+    summary
       .add("wall_time_s", io::timings_json(timer))
       .add("total_wall_time_s", clock.wall.wall_time())
       .add("peak_memory_MiB", io::peak_memory_mib())
@@ -252,6 +335,10 @@ int run_command(const Options &options, const io::SceneFile &file)
     out.add_summary(summary);
   }
   out.commit();
+  // gnuplot runs in the output folder from an argument vector: no shell sees the folder's name.
+  const bool plotted = deviation && io::is_first_process() && base::run_program({"gnuplot", "deviation.gp"}, out.path()) == 0;
+  if (deviation && !plotted)
+    std::cout << "  warning: gnuplot is not installed or failed: no deviation.png (deviation.gp draws it)\n";
 
   const auto stats = ida.statistics();
   std::cout << "  " << stats.steps << " steps (" << stats.error_test_failures << " rejected by the error test, "
@@ -265,7 +352,8 @@ int run_command(const Options &options, const io::SceneFile &file)
                       std::to_string(recorder.last_time()) + " s are in " + out.path() + "/");
   std::cout << "  results in " << out.path() << "/ (" << (scene.probes.empty() ? "" : "probes.csv, ")
             << "monitors.csv, results.h5, summary.json, parameters_used.prm"
-            << (animation ? ", animation.pvd" : "") << ")" << std::endl;
+            << (animation ? ", animation.pvd" : "") << (deviation ? ", deviation.csv" : "")
+            << (plotted ? ", deviation.png" : "") << ")" << std::endl;
   return 0;
 }
 } // namespace flextrack::app

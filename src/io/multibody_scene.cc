@@ -294,7 +294,7 @@ void declare_multibody_scene(ParameterHandler &prm, const SceneNames &names)
 }
 
 MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, dealii::TimerOutput &timer,
-                                    const std::function<void()> &before_reduction)
+                                    const std::function<void()> &before_reduction, const bool every_body_rigid)
 {
   try
     {
@@ -314,6 +314,7 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
       prm.leave_subsection();
       check_all_magnitudes(prm, scene.names);
       scene.settings = SimulationSettings::parse_parameters(prm);
+      scene.settings.flexible_as_rigid = scene.settings.flexible_as_rigid || every_body_rigid;
       prm.enter_subsection("Output");
       scene.output_directory = base::trim(prm.get("Directory"));
       scene.animation_interval = prm.get_double("Animation interval");

@@ -46,8 +46,10 @@ void declare_multibody_scene(dealii::ParameterHandler &prm, const multibody::Sce
 
 /// Reads and builds the scene of @p file ("Model = multibody"). Reductions of flexible bodies are
 /// logged to @p log and timed in @p timer; @p before_reduction is called once before the first
-/// reduction that the cache cannot serve (the FE stage needs MPI started). InputError naming the
-/// file and entry for bad input.
+/// reduction that the cache cannot serve (the FE stage needs MPI started). @p every_body_rigid
+/// builds every flexible body rigid whatever the scene says (as 'Multibody/Flexible bodies rigid =
+/// true'): the rigid reference run of 'Multibody/Rigid reference'. InputError naming the file and
+/// entry for bad input.
 MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, dealii::TimerOutput &timer,
-                                    const std::function<void()> &before_reduction = {});
+                                    const std::function<void()> &before_reduction = {}, bool every_body_rigid = false);
 } // namespace flextrack::io

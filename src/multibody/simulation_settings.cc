@@ -64,6 +64,12 @@ void SimulationSettings::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Flexible bodies rigid", "false", Patterns::Bool(),
                     "Treat every flexible body as rigid with the same mass properties (m, s, J_O; no modes), "
                     "to compare the same scene with and without flexibility [-].");
+  prm.declare_entry("Rigid reference", "false", Patterns::Bool(),
+                    "'flextrack run' runs the scene a second time with every body rigid (as 'Flexible bodies "
+                    "rigid = true': the nominal path) and writes deviation.csv (each probe's rigid position and "
+                    "its distance from the probe of the run [m] at the same output times), the largest "
+                    "deviation per probe (printed, summary.json) and deviation.png (gnuplot: both paths and the "
+                    "deviation in time). Needs at least one probe [-].");
   prm.declare_entry("Initial state", "as given", Patterns::Selection("as given|static equilibrium"),
                     "'as given': the bodies' Position, orientation, Velocity, Angular velocity, Modal "
                     "coordinates and Modal velocities, made consistent with the joints. 'static equilibrium': "
@@ -89,6 +95,7 @@ SimulationSettings SimulationSettings::parse_parameters(ParameterHandler &prm)
   s.end_time = prm.get_double("End time");
   s.output_interval = prm.get_double("Output interval");
   s.flexible_as_rigid = prm.get_bool("Flexible bodies rigid");
+  s.rigid_reference = prm.get_bool("Rigid reference");
   s.static_equilibrium = prm.get("Initial state") == "static equilibrium";
   prm.enter_subsection("Integrator");
   s.integrator.parse_parameters(prm);

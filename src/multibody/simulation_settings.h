@@ -36,6 +36,9 @@ struct SimulationSettings
   double end_time = 1;             ///< [s]
   double output_interval = 0.01;   ///< [s] between output rows
   bool flexible_as_rigid = false;  ///< every flexible body rigid (same m, s, J_O): deviation studies
+  /// `flextrack run` also runs the scene with every body rigid and writes the probes' deviation
+  /// from that nominal path (deviation.csv, deviation.png).
+  bool rigid_reference = false;
   /// Start from the static equilibrium under gravity and the loads at the start time (entry
   /// `Initial state = static equilibrium`; multibody/static_equilibrium.h) instead of the
   /// positions and velocities as given (`as given`, the default).

@@ -137,7 +137,7 @@ TEXT_ENTRIES = {"Node sets", "Points file", "Mesh file", "Directory", "Export fo
                 # multibody scenes: names, lists of names, switches, file names and expressions
                 "Bodies", "Joints", "Forces", "Probes", "Body", "Body 1", "Body 2", "Interface", "Interface 1",
                 "Interface 2", "Frame", "Body scene", "Reduced body file", "Rigid", "Geometric stiffening",
-                "Flexible bodies rigid", "Body axes", "Driver", "Modal coordinates", "Modal velocities", "Initial state",
+                "Flexible bodies rigid", "Rigid reference", "Body axes", "Driver", "Modal coordinates", "Modal velocities", "Initial state",
                 "Arm", "Sliding"}
 
 # Failures in code owned elsewhere, reported as "known" instead of failing the test; each names
