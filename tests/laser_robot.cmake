@@ -18,3 +18,7 @@ flextrack_laser_robot_check(run_laser_robot_writes_deviation_from_rigid_referenc
 # Every body rigid at rtol 1e-10: the head on the nominal path (the kinematic composition of the
 # turntable angle, the sleeve's arc length on arm I and arm I's rotation-minimising frame) to 1e-10 m.
 flextrack_laser_robot_check(run_laser_robot_rigid_reproduces_nominal_path nominal laser_robot_rigid_tight.prm)
+# Nothing to compare: refused before the run, one line, exit 2, nothing written.
+flextrack_bad_input(run_rigid_reference_without_probe
+  "rigid_reference_without_probe.prm: entry 'Multibody/Rigid reference': needs a probe"
+  run multibody_input/rigid_reference_without_probe.prm)
