@@ -58,11 +58,12 @@ void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics 
       throw std::out_of_range(m.str());
     }
   const geometry::CurveGeometry g = curve->geometry(s_on);
-  const bool inside = beyond == 0;
-  const Vector3 t = g.tangent, t_s = inside ? Vector3(g.derivative[1]) : Vector3();
-  const Vector3 d2 = frame->y_axis(s_on), d2_s = inside ? frame->y_axis_rate(g, d2) : Vector3();
-  const std::array<Vector3, 3> section = {{d2, cross_product_3d(t, d2), t}};
+  const Vector3 t = g.tangent, t_s = g.derivative[1];
+  const Vector3 d2 = frame->y_axis(s_on), d2_s = frame->y_axis_rate(g, d2);
+  const std::array<Vector3, 3> section_end = {{d2, cross_product_3d(t, d2), t}};
   const std::array<Vector3, 3> section_s = {{d2_s, cross_product_3d(t_s, d2) + cross_product_3d(t, d2_s), t_s}};
+  std::array<Vector3, 3> section; // beyond an end: continued to first order, so B stays continuous
+  for (unsigned int k = 0; k < 3; ++k) section[k] = section_end[k] + beyond * section_s[k];
   std::array<Vector3, 3> axis, axis_s; // the marker's axes: section axes times the offset
   for (unsigned int c = 0; c < 3; ++c)
     for (unsigned int k = 0; k < 3; ++k)
@@ -74,7 +75,7 @@ void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics 
   for (unsigned int a = 0; a < 3; ++a) darboux += 0.5 * cross_product_3d(section[a], section_s[a]);
 
   // Mode fields at s: u, theta and their slopes.
-  Vector3 u = Vector3(g.position) + beyond * t, u_s = t, theta, theta_s;
+  Vector3 u = Vector3(g.position) + beyond * t + 0.5 * beyond * beyond * t_s, u_s = t + beyond * t_s, theta, theta_s;
   std::vector<double> value(6 * n), slope(6 * n);
   if (n > 0)
     {

@@ -14,10 +14,13 @@
 // (b_a = g_a + th x g_a, th = Phi_th eta; linear in eta like every flexible marker).
 //
 // Beyond the ends: IDA's Newton iterates and a step that crosses an end (found by root finding
-// and interpolated back to it) may ask for s a little outside [0, L]. There the track continues
-// straight along its end tangent and the mode fields along their end slopes, up to
-// overrun_fraction L; beyond that the evaluation throws (IDA then cuts the step). Results are
-// never reported beyond an end: the run stops at it (Joint::limits()).
+// and interpolated back to it) may ask for s a little outside [0, L]. There the curve and its
+// section frame continue by their Taylor expansions at the end (the centre line to second order,
+// the axes to first, so the velocity constraints stay continuous: a straight continuation would
+// stop the frame's rotation at once, which no slider locked to it can follow), and the mode
+// fields along their end slopes, up to overrun_fraction L; beyond that the evaluation throws
+// (IDA then cuts the step). Results are never reported beyond an end: the run stops at it
+// (Joint::limits()).
 #pragma once
 
 #include <geometry/section_frame.h>
