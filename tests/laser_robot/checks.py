@@ -9,13 +9,20 @@
 
 The reference and the tolerance stand next to each assertion.
 """
-import csv
+import importlib.util
 import json
 import math
 import os
 import shutil
-import subprocess
 import sys
+
+# run, table, check: the helpers of the other multibody CLI checks (no __pycache__ in the sources).
+sys.dont_write_bytecode = True
+_spec = importlib.util.spec_from_file_location(
+    "multibody_cli_checks", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "multibody_cli", "checks.py"))
+_cli = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_cli)
+run, table, check = _cli.run, _cli.table, _cli.check
 
 # The scene (prm/laser_robot.prm, prm/laser_robot_base.prm, prm/laser_robot_arm2.prm).
 AXIS = (0.15, 0.15, 0.0)           # turntable axis (vertical) through this point [m]
@@ -30,27 +37,6 @@ def theta(t):
 
 def arc(t):
     return 0.4 + 0.8 * ((1 - math.cos(math.pi * t)) / 2) ** 2
-
-
-def run(exe, *args):
-    p = subprocess.run([exe, *args], capture_output=True, text=True)
-    print(p.stdout)
-    print(p.stderr, file=sys.stderr)
-    if p.returncode != 0:
-        sys.exit(f"exit status {p.returncode}, expected 0")
-    return p
-
-
-def table(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    return {k: [float(r[k]) for r in rows] for k in rows[0]}
-
-
-def check(condition, message):
-    print(("ok:   " if condition else "FAIL: ") + message)
-    if not condition:
-        sys.exit(1)
 
 
 def fresh_run(exe, scene, out):
