@@ -79,6 +79,14 @@ void add_track_joint(System &s, const std::string &name, const Body &slider, con
   s.add_joint(std::make_unique<TrackJoint>(name, std::move(follower), std::move(track), mask, sliding));
 }
 
+/// IDA stops where a contact reaches an end of its track (as flextrack run does).
+void stop_at_track_ends(IdaIntegrator &ida, const System &s)
+{
+  ida.set_root_functions(s.n_limits(), [&s](double, const Vector<double> &state, const Vector<double> &, double *g) {
+    s.limit_values(state, g);
+  });
+}
+
 const JointMask bead{{{true, true, true}}, {{false, false, false}}};
 const JointMask slider_mask{{{true, true, true}}, {{true, true, true}}};
 
@@ -113,9 +121,7 @@ TEST(MultibodyTrack, bead_on_rigid_helix_slides_with_the_closed_form_acceleratio
   consistent_initial_conditions(s, 0, y, yp);
   IdaIntegrator ida(s, tight(1e-10, 1e-12));
   ida.initialize(0, y, yp);
-  ida.set_root_functions(s.n_limits(), [&s](double, const Vector<double> &state, const Vector<double> &, double *g) {
-    s.limit_values(state, g);
-  });
+  stop_at_track_ends(ida, s);
   Vector<double> y1;
   ida.integrate(1.0, 0.5, [&](double, const Vector<double> &yy, const Vector<double> &) { y1 = yy; });
   const double a = 9.81 * 0.2 / std::sqrt(1.0 + 0.04);
@@ -259,9 +265,7 @@ TEST(MultibodyTrack, end_of_track_stops_the_run_at_the_end)
   consistent_initial_conditions(s, 0, y, yp);
   IdaIntegrator ida(s, tight(1e-8, 1e-10));
   ida.initialize(0, y, yp);
-  ida.set_root_functions(s.n_limits(), [&s](double, const Vector<double> &state, const Vector<double> &, double *g) {
-    s.limit_values(state, g);
-  });
+  stop_at_track_ends(ida, s);
   Vector<double> last;
   const double t_end = ida.integrate(2.0, 0.1, [&](double, const Vector<double> &yy, const Vector<double> &) { last = yy; });
   EXPECT_NEAR(t_end, 0.45, 1e-8);
@@ -369,9 +373,7 @@ MovingForceResult moving_force(const double alpha, const unsigned int n_elements
   settings.max_order = 2;
   IdaIntegrator ida(s, settings);
   ida.initialize(0, y, yp);
-  ida.set_root_functions(s.n_limits(), [&s](double, const Vector<double> &state, const Vector<double> &, double *g) {
-    s.limit_values(state, g);
-  });
+  stop_at_track_ends(ida, s);
   const reduction::ArmModeField field(arm);
   const unsigned int n = beam->n_modes();
   std::vector<double> value(6 * n), slope(6 * n);
