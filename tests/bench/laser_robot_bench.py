@@ -6,7 +6,8 @@ bodies cached) against the laser head's position error, with the peak memory. Ta
 under 1e-5 m in under 1 s total; at least 100x faster than the same scene with the bodies' full
 FE bases at equal error.
 
-  laser_robot_bench.py FLEXTRACK_EXE SOURCE_DIR WORKDIR [--quick]
+  laser_robot_bench.py FLEXTRACK_EXE SOURCE_DIR WORKDIR [--quick] [--cases=M:S:RTOL,...] [--repeats=N]
+      [--no-reference] [--reuse-runs] [--no-reference-check]
 
 What it runs (copies of the three scenes in WORKDIR, each body scene with its own
 Output/Directory in WORKDIR, so ./output/ of prm/laser_robot.prm is never touched):
@@ -22,8 +23,13 @@ Output/Directory in WORKDIR, so ./output/ of prm/laser_robot.prm is never touche
     error is estimated by the same basis at rtol 1e-8 (printed);
   - timed runs: body I with (8 normal modes, 8 stations: the scene's basis), (16, 4) and (4, 4),
     each at rtol 1e-3 ... 1e-7; three runs each under /usr/bin/time -v; the median wall time
-    (whole process), the peak resident memory of that run, integration wall time and IDA steps
+    (whole process), the median CPU time (user + system: on a machine shared with other jobs the
+    wall time grows with the load, the CPU time much less), the peak resident memory of that run, integration wall time and IDA steps
     from its summary.json; error = max over the 1001 output times of |r_head - r_head,ref|.
+
+--cases (normal modes : track stations : rtol of each case) and --repeats replace the defaults;
+--no-reference stops after the timed runs; --reuse-runs takes the runs already in WORKDIR (their
+/usr/bin/time logs and results, however many there are per case) instead of running them.
 
 Prints the table and 'target met' / 'target missed' for the 1 s / 1e-5 m target. The full-FE-basis
 comparison is not run here (doc/benchmarks.md: its cost was measured separately and
@@ -65,23 +71,36 @@ def read_head(path):
 
 
 def timed(cmd, log):
-    """Runs cmd under /usr/bin/time -v: (exit status, wall [s], peak RSS [MiB])."""
+    """Runs cmd under /usr/bin/time -v: (exit status, wall [s], peak RSS [MiB], CPU user + system [s])."""
     with open(log, "w") as f:
-        r = subprocess.run(["/usr/bin/time", "-v"] + cmd, stdout=f, stderr=subprocess.STDOUT)
+        subprocess.run(["/usr/bin/time", "-v"] + cmd, stdout=f, stderr=subprocess.STDOUT)
+    return parse_time(log)
+
+
+def parse_time(log):
+    """The figures of /usr/bin/time -v at the end of log."""
     text = open(log).read()
+    status = re.search(r"Exit status: (\d+)", text)
     m = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): (?:(\d+):)?(\d+):([\d.]+)", text)
     rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", text)
-    if not m or not rss:
+    if not m or not rss or not status:
         fail("no /usr/bin/time output in " + log)
     wall = int(m.group(1) or 0) * 3600 + int(m.group(2)) * 60 + float(m.group(3))
-    return r.returncode, wall, int(rss.group(1)) / 1024
+    cpu = sum(float(x) for x in re.findall(r"(?:User|System) time \(seconds\): ([\d.]+)", text))
+    return int(status.group(1)), wall, int(rss.group(1)) / 1024, cpu
 
 
 def main():
     if len(sys.argv) < 4:
-        fail("usage: laser_robot_bench.py FLEXTRACK_EXE SOURCE_DIR WORKDIR [--quick]")
+        fail("usage: laser_robot_bench.py FLEXTRACK_EXE SOURCE_DIR WORKDIR [options, see the file's head]")
     exe, srcdir, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
     quick = "--quick" in sys.argv[4:]
+
+    def option(name):
+        for a in sys.argv[4:]:
+            if a.startswith(name + "="):
+                return a[len(name) + 1:]
+        return None
     os.makedirs(work, exist_ok=True)
     src = {n: open(os.path.join(srcdir, "prm", n)).read() for n in (SCENE, BASE, ARM2)}
     arm2 = with_output_directory(src[ARM2], os.path.join(work, "cache_arm2"))
@@ -110,13 +129,16 @@ def main():
             if subprocess.run([exe, "reduce", base_scene], stdout=f, stderr=subprocess.STDOUT).returncode:
                 fail("reduce " + base_scene + ": " + open(log).read()[-2000:])
 
-    def run(scene, out):
-        shutil.rmtree(out, ignore_errors=True)
-        status, wall, rss = timed([exe, "run", scene, "-o", out], out + ".log")
+    def run(scene, out, reuse=False):
+        if reuse:
+            status, wall, rss, cpu = parse_time(out + ".log")
+        else:
+            shutil.rmtree(out, ignore_errors=True)
+            status, wall, rss, cpu = timed([exe, "run", scene, "-o", out], out + ".log")
         if status != 0:
             return None
         s = json.load(open(os.path.join(out, "summary.json")))
-        return dict(wall=wall, rss=rss, integration=s["wall_time_s"]["time integration"],
+        return dict(wall=wall, rss=rss, cpu=cpu, integration=s["wall_time_s"]["time integration"],
                     steps=s["integrator"]["steps"], jac=s["integrator"]["jacobian_evaluations"],
                     head=read_head(os.path.join(out, "probes.csv")))
 
@@ -125,10 +147,48 @@ def main():
             fail("output times differ from the reference run")
         return max(math.dist(p, q) for (_, p), (_, q) in zip(a, b))
 
+    # Timed runs first (they do not need the reference), errors once the reference is there.
+    cases = [(m, s, r) for m, s in [(8, 8), (16, 4), (4, 4)] for r in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7]]
+    repeats = 3
+    if quick:
+        cases, repeats = [(8, 8, 1e-4), (8, 8, 1e-6)], 1
+    if option("--cases"):
+        cases = [(int(m), int(s), float(r)) for m, s, r in (c.split(":") for c in option("--cases").split(","))]
+    if option("--repeats"):
+        repeats = int(option("--repeats"))
+    reuse = "--reuse-runs" in sys.argv[4:]
+    rows = []
+    for modes, stations, rtol in cases:
+        tag = "m%d_s%d_rtol%.0e" % (modes, stations, rtol)
+        scene, base = case(modes, stations, rtol, tag)
+        reduce(base)
+        n_red = json.load(open(os.path.join(work, "cache_base_m%d_s%d" % (modes, stations), "summary.json")))["modes"]
+        runs = [run(scene, os.path.join(work, tag, "run%d" % i), reuse) for i in range(repeats)
+                if not reuse or os.path.exists(os.path.join(work, tag, "run%d.log" % i))]
+        if not runs:
+            fail("--reuse-runs: no run of " + tag)
+        if any(r is None for r in runs):
+            print("%d modes, %d stations, rtol %.0e: failed (%s)" % (modes, stations, rtol, os.path.join(work, tag)),
+                  flush=True)
+            continue
+        med = sorted(runs, key=lambda r: r["wall"])[len(runs) // 2]
+        rows.append(dict(modes=modes, stations=stations, reduced=n_red, rtol=rtol, wall=med["wall"],
+                         walls=[r["wall"] for r in runs], cpu=statistics.median(r["cpu"] for r in runs),
+                         rss=med["rss"], integration=med["integration"],
+                         steps=med["steps"], jac=med["jac"], head=med["head"]))
+        print("%d modes, %d stations, rtol %.0e: walls %s s, CPU %s s"
+              % (modes, stations, rtol, " ".join("%.2f" % r["wall"] for r in runs),
+                 " ".join("%.2f" % r["cpu"] for r in runs)), flush=True)
+
+    if "--no-reference" in sys.argv[4:]:
+        return
+
     # Reference: the richest basis at rtol 1e-9 (kept between runs of the benchmark while its scene
-    # files are unchanged), checked against rtol 1e-8.
+    # files are unchanged), checked against rtol 1e-8 (unless --no-reference-check).
     reference = {}
     for rtol in (1e-9, 1e-8):
+        if rtol == 1e-8 and "--no-reference-check" in sys.argv[4:]:
+            continue
         tag = "reference_rtol%.0e" % rtol
         scene, base = case(24, 16, rtol, tag)
         reduce(base)
@@ -136,63 +196,42 @@ def main():
         stamp = os.path.join(work, tag, "inputs")
         inputs = "".join(open(os.path.join(work, tag, n)).read() for n in (SCENE, BASE, ARM2)) + exe
         if os.path.exists(stamp) and open(stamp).read() == inputs and os.path.exists(os.path.join(out, "probes.csv")):
-            s = json.load(open(os.path.join(out, "summary.json")))
-            reference[rtol] = dict(head=read_head(os.path.join(out, "probes.csv")),
-                                   integration=s["wall_time_s"]["time integration"], steps=s["integrator"]["steps"])
             print("reference rtol %.0e: reused %s" % (rtol, out), flush=True)
         else:
-            r = run(scene, out)
-            if r is None:
+            if run(scene, out) is None:
                 fail("reference run " + tag + ": " + open(out + ".log").read()[-2000:])
             open(stamp, "w").write(inputs)
-            reference[rtol] = r
+        s = json.load(open(os.path.join(out, "summary.json")))
+        reference[rtol] = dict(head=read_head(os.path.join(out, "probes.csv")),
+                               integration=s["wall_time_s"]["time integration"], steps=s["integrator"]["steps"])
         print("reference rtol %.0e (24 normal modes, 16 stations, 72 reduced modes): integration %.1f s, %d steps"
               % (rtol, reference[rtol]["integration"], reference[rtol]["steps"]), flush=True)
     ref = reference[1e-9]["head"]
-    print("reference's integration error, estimated as |rtol 1e-8 - rtol 1e-9|: %.2e m\n"
-          % distance(reference[1e-8]["head"], ref), flush=True)
+    if 1e-8 in reference:
+        print("reference's integration error, estimated as |rtol 1e-8 - rtol 1e-9|: %.2e m"
+              % distance(reference[1e-8]["head"], ref), flush=True)
 
-    bases = [(8, 8), (16, 4), (4, 4)]
-    rtols = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7]
-    repeats = 3
-    if quick:
-        bases, rtols, repeats = [(8, 8)], [1e-4, 1e-6], 1
-    rows = []
-    print("%6s %8s %8s %7s %13s %11s %12s %8s %6s %11s"
-          % ("modes", "stations", "reduced", "rtol", "wall med [s]", "peak [MiB]", "integr. [s]", "steps",
-             "Jacs", "error [m]"), flush=True)
-    for modes, stations in bases:
-        for rtol in rtols:
-            tag = "m%d_s%d_rtol%.0e" % (modes, stations, rtol)
-            scene, base = case(modes, stations, rtol, tag)
-            reduce(base)
-            n_red = json.load(open(os.path.join(work, "cache_base_m%d_s%d" % (modes, stations), "summary.json")))["modes"]
-            runs = [run(scene, os.path.join(work, tag, "run%d" % i)) for i in range(repeats)]
-            if any(r is None for r in runs):
-                print("%6d %8d %8d %7.0e  failed (%s)" % (modes, stations, n_red, rtol,
-                                                          os.path.join(work, tag)), flush=True)
-                continue
-            med = sorted(runs, key=lambda r: r["wall"])[len(runs) // 2]
-            err = distance(med["head"], ref)
-            rows.append(dict(modes=modes, stations=stations, reduced=n_red, rtol=rtol, wall=med["wall"],
-                             walls=[r["wall"] for r in runs], rss=med["rss"], integration=med["integration"],
-                             steps=med["steps"], jac=med["jac"], error=err))
-            print("%6d %8d %8d %7.0e %13.2f %11.1f %12.2f %8d %6d %11.2e"
-                  % (modes, stations, n_red, rtol, med["wall"], med["rss"], med["integration"], med["steps"],
-                     med["jac"], err), flush=True)
+    print("\n%6s %8s %8s %7s %13s %12s %11s %12s %8s %6s %11s"
+          % ("modes", "stations", "reduced", "rtol", "wall med [s]", "CPU med [s]", "peak [MiB]", "integr. [s]",
+             "steps", "Jacs", "error [m]"))
+    for r in rows:
+        r["error"] = distance(r["head"], ref)
+        print("%6d %8d %8d %7.0e %13.2f %12.2f %11.1f %12.2f %8d %6d %11.2e"
+              % (r["modes"], r["stations"], r["reduced"], r["rtol"], r["wall"], r["cpu"], r["rss"], r["integration"],
+                 r["steps"], r["jac"], r["error"]))
     with open(os.path.join(work, "work_precision.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["normal_modes", "track_stations", "reduced_modes", "rtol", "wall_median_s", "walls_s",
-                    "peak_MiB", "integration_s", "steps", "jacobians", "error_m"])
+                    "cpu_median_s", "peak_MiB", "integration_s", "steps", "jacobians", "error_m"])
         for r in rows:
             w.writerow([r["modes"], r["stations"], r["reduced"], "%.0e" % r["rtol"], "%.3f" % r["wall"],
-                        " ".join("%.2f" % x for x in r["walls"]), "%.1f" % r["rss"], "%.3f" % r["integration"],
+                        " ".join("%.2f" % x for x in r["walls"]), "%.2f" % r["cpu"], "%.1f" % r["rss"], "%.3f" % r["integration"],
                         r["steps"], r["jac"], "%.3e" % r["error"]])
     within = [r for r in rows if r["error"] < 1e-5]
     if within:
         best = min(within, key=lambda r: r["wall"])
-        print("\nfastest run with error < 1e-5 m: %d modes, %d stations, rtol %.0e: %.2f s total, error %.2e m"
-              % (best["modes"], best["stations"], best["rtol"], best["wall"], best["error"]))
+        print("\nfastest run with error < 1e-5 m: %d modes, %d stations, rtol %.0e: %.2f s total (CPU %.2f s), error %.2e m"
+              % (best["modes"], best["stations"], best["rtol"], best["wall"], best["cpu"], best["error"]))
         print("target (error < 1e-5 m in < 1 s total): %s" % ("target met" if best["wall"] < 1 else "target missed"))
     else:
         print("\nno run within 1e-5 m: target missed")
