@@ -47,6 +47,8 @@ SectionFrame::SectionFrame(std::shared_ptr<const Curve> c, const Kind kind, cons
   r /= r.norm();
   rmf_y.reserve(rmf_steps + 1);
   rmf_y.push_back(r);
+  rmf_x.push_back(g0.position);
+  rmf_t.push_back(g0.tangent);
   Point<3> x = g0.position;
   Vec3 t = g0.tangent;
   const double h = curve->length() / rmf_steps;
@@ -55,6 +57,8 @@ SectionFrame::SectionFrame(std::shared_ptr<const Curve> c, const Kind kind, cons
       const CurveGeometry g = curve->geometry(i * h);
       r = double_reflection(x, t, r, g.position, g.tangent);
       rmf_y.push_back(r);
+      rmf_x.push_back(g.position);
+      rmf_t.push_back(g.tangent);
       x = g.position;
       t = g.tangent;
     }
@@ -62,7 +66,12 @@ SectionFrame::SectionFrame(std::shared_ptr<const Curve> c, const Kind kind, cons
 
 Vec3 SectionFrame::y_axis(const double s) const
 {
-  const CurveGeometry g = curve->geometry(s);
+  return y_axis(curve->geometry(s));
+}
+
+Vec3 SectionFrame::y_axis(const CurveGeometry &g) const
+{
+  const double s = g.s;
   switch (frame_kind)
     {
       case Kind::frenet:
@@ -91,8 +100,7 @@ Vec3 SectionFrame::y_axis(const double s) const
         {
           const double h = curve->length() / rmf_steps;
           const int i = std::min(rmf_steps - 1, std::max(0, static_cast<int>(s / h)));
-          const CurveGeometry gi = curve->geometry(i * h);
-          return double_reflection(gi.position, gi.tangent, rmf_y[i], g.position, g.tangent);
+          return double_reflection(rmf_x[i], rmf_t[i], rmf_y[i], g.position, g.tangent);
         }
     }
   return Vec3();

@@ -26,6 +26,8 @@ public:
 
   /// Section y axis d2 at arc length s (unit, orthogonal to the tangent).
   Vec3 y_axis(double s) const;
+  /// The same at the point of @p g (= curve geometry at g.s), without evaluating the curve again.
+  Vec3 y_axis(const CurveGeometry &g) const;
   /// d(d2)/ds [1/m] at the point of @p g, where the y axis is @p y (= y_axis(g.s)), for a contact
   /// sliding along the arm: Frenet n' = -k t + tau b; rotation minimising -(d2 . t') t (no twist
   /// about the tangent, by definition); fixed vector the derivative of the normalised projection.
@@ -41,6 +43,8 @@ private:
   Kind frame_kind;
   Vec3 reference;
   std::vector<Vec3> rmf_y; // rotation-minimising frame at s_i = i L / N
+  std::vector<Point<3>> rmf_x; // the curve's points and tangents there (each y_axis(s) starts
+  std::vector<Vec3> rmf_t;     // from the nearest: no second curve evaluation)
 };
 
 /// The frame is undefined (Frenet at zero curvature, reference parallel to the tangent).

@@ -230,7 +230,10 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
   Assert(sun->ida, ExcMessage("initialize() first"));
   IDASetStopTime(sun->ida, t_end);
   roots.assign(n_roots, 0);
-  double next_output = output_interval > 0 ? t_now + output_interval : t_end;
+  // Output times t0 + k dt (not a running sum, which leaves 7.009999999999895 for 7.01).
+  const double t_first = t_now;
+  unsigned long k_output = 1;
+  double next_output = output_interval > 0 ? t_first + output_interval : t_end;
   State y, yp;
   while (t_now < t_end)
     {
@@ -249,7 +252,7 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
           interpolate(std::min(next_output, t_now), y, yp);
           output(std::min(next_output, t_now), y, yp);
           if (next_output >= t_end - tiny) break;
-          next_output = output_interval > 0 ? std::min(next_output + output_interval, t_end) : t_end;
+          next_output = output_interval > 0 ? std::min(t_first + double(++k_output) * output_interval, t_end) : t_end;
         }
       if (flag == IDA_ROOT_RETURN)
         {

@@ -59,7 +59,7 @@ void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics 
     }
   const geometry::CurveGeometry g = curve->geometry(s_on);
   const Vector3 t = g.tangent, t_s = g.derivative[1];
-  const Vector3 d2 = frame->y_axis(s_on), d2_s = frame->y_axis_rate(g, d2);
+  const Vector3 d2 = frame->y_axis(g), d2_s = frame->y_axis_rate(g, d2);
   const std::array<Vector3, 3> section_end = {{d2, cross_product_3d(t, d2), t}};
   const std::array<Vector3, 3> section_s = {{d2_s, cross_product_3d(t_s, d2) + cross_product_3d(t, d2_s), t_s}};
   std::array<Vector3, 3> section; // beyond an end: continued to first order, so B stays continuous
