@@ -99,7 +99,9 @@ struct Run
   std::vector<double> v; ///< chordwise tip deflection [m] at k output_interval
 };
 
-Run run(const std::shared_ptr<const reduction::ReducedBody> &beam, const std::string &basis, const double rtol)
+/// @p velocity_tolerance: IDA's absolute tolerance of the velocities (0: the absolute tolerance).
+Run run(const std::shared_ptr<const reduction::ReducedBody> &beam, const std::string &basis, const double rtol,
+        const double velocity_tolerance = 0)
 {
   System s;
   s.add_body(std::make_unique<FloatingBody>("beam", beam, FlexibleOptions(), InitialState()));
@@ -128,6 +130,7 @@ Run run(const std::shared_ptr<const reduction::ReducedBody> &beam, const std::st
   IntegratorSettings settings;
   settings.relative_tolerance = rtol;
   settings.absolute_tolerance = rtol * 1e-2;
+  settings.velocity_tolerance = velocity_tolerance;
   const auto start = std::chrono::steady_clock::now();
   IdaIntegrator ida(s, settings);
   ida.initialize(0, y, yp);
@@ -159,9 +162,9 @@ int main(int argc, char **argv)
   const std::string folder = argc > 1 ? argv[1] : ".";
   try
     {
-      if (argc > 3) // one run, for profiling: slewing_beam FOLDER MODES RTOL
+      if (argc > 3) // one run, for profiling: slewing_beam FOLDER MODES RTOL [VELOCITY_TOLERANCE]
         {
-          const Run r = run(slewing_beam(std::stoi(argv[2]), 20), "", std::stod(argv[3]));
+          const Run r = run(slewing_beam(std::stoi(argv[2]), 20), "", std::stod(argv[3]), argc > 4 ? std::stod(argv[4]) : 0.0);
           std::printf("%s modes, rtol %s: %.4f s, %ld steps, %ld Jacobians, %ld residuals, %ld error-test and %ld "
                       "Newton convergence failures, %ld Newton iterations, peak %.6f m\n", argv[2], argv[3], r.wall,
                       r.statistics.steps, r.statistics.jacobian_evaluations, r.statistics.residual_evaluations,
