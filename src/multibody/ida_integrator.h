@@ -39,6 +39,7 @@ struct IntegratorSettings
   /// index-2 multipliers carry roundoff amplified by c_j ~ 1/h (mu ~ eps |q| / h).
   double multiplier_tolerance = 1e-2;
   unsigned int max_order = 5;       ///< BDF order limit, 1..5
+  unsigned int max_newton_iterations = 4; ///< per step, before a Jacobian rebuild or a smaller step
   double max_step = 0;              ///< [s], 0: no limit
   double initial_step = 0;          ///< [s], 0: IDA's choice
   long max_steps = 1000000;         ///< internal steps per call of integrate()
