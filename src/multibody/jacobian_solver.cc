@@ -68,11 +68,6 @@ bool JacobianSolver::factorize()
       symbolic_done = true;
     }
   ++count;
-  if (klu->NumericFactorization() == 0) return true;
-  // The symbolic analysis (ordering, block triangular form) was made for entries that were
-  // non-zero then; when some vanish (a contact leaving a curved arm for its straight overrun
-  // zone zeroes the curvature terms) it may no longer fit: analyse again once.
-  if (klu->SymbolicFactorization() != 0) return false;
   return klu->NumericFactorization() == 0;
 }
 

@@ -38,6 +38,27 @@ void static_residual(const System &system, const double t0, const Vector<double>
     }
 }
 
+/// K = d(B^T lambda - Q)/dx (nv x nv) at @p y by central differences of step @p h along the
+/// velocity coordinates (positions moved by System::move_positions), and B at @p y.
+void static_stiffness(const System &system, const double t0, const Vector<double> &y, const Vector<double> &lambda,
+                      const double h, FullMatrix<double> &K, FullMatrix<double> &B)
+{
+  const unsigned int nv = system.n_v();
+  Vector<double> phi, phi_t, r_plus, r_minus;
+  system.constraints(t0, y, false, phi, B, phi_t);
+  for (unsigned int c = 0; c < nv; ++c)
+    {
+      Vector<double> dx(nv), y_plus(y), y_minus(y);
+      dx[c] = h;
+      system.move_positions(y_plus, dx);
+      dx[c] = -h;
+      system.move_positions(y_minus, dx);
+      static_residual(system, t0, y_plus, lambda, r_plus);
+      static_residual(system, t0, y_minus, lambda, r_minus);
+      for (unsigned int i = 0; i < nv; ++i) K(i, c) = (r_plus[i] - r_minus[i]) / (2 * h);
+    }
+}
+
 /// The name of residual row @p i: a generalised force or a joint's position constraint.
 std::string row_name(const System &system, const unsigned int i)
 {
@@ -168,20 +189,10 @@ EquilibriumReport solve_static_equilibrium(const System &system, const double t0
       // is in equilibrium anywhere, and only the singular tangent tells.
       if (it > 0 && converged(r)) break;
       // Tangent: K_T by central differences of r_f, B and B^T analytic.
-      Vector<double> phi, phi_t, r_plus, r_minus;
-      system.constraints(t0, y, false, phi, B, phi_t);
+      static_stiffness(system, t0, y, lambda, h, K, B);
       J = 0;
-      for (unsigned int c = 0; c < nv; ++c)
-        {
-          Vector<double> dx(nv), y_plus(y), y_minus(y);
-          dx[c] = h;
-          system.move_positions(y_plus, dx);
-          dx[c] = -h;
-          system.move_positions(y_minus, dx);
-          static_residual(system, t0, y_plus, lambda, r_plus);
-          static_residual(system, t0, y_minus, lambda, r_minus);
-          for (unsigned int i = 0; i < nv; ++i) J(i, c) = K(i, c) = (r_plus[i] - r_minus[i]) / (2 * h);
-        }
+      for (unsigned int i = 0; i < nv; ++i)
+        for (unsigned int c = 0; c < nv; ++c) J(i, c) = K(i, c);
       for (unsigned int k = 0; k < nl; ++k)
         for (unsigned int c = 0; c < nv; ++c) J(nv + k, c) = J(c, nv + k) = B(k, c);
 
@@ -282,19 +293,7 @@ EquilibriumReport solve_static_equilibrium(const System &system, const double t0
 
   // Stability: the stiffness on the constraint null space (an inverted pendulum is an equilibrium too).
   {
-    Vector<double> phi, phi_t, r_plus, r_minus;
-    system.constraints(t0, y, false, phi, B, phi_t);
-    for (unsigned int c = 0; c < nv; ++c)
-      {
-        Vector<double> dx(nv), y_plus(y), y_minus(y);
-        dx[c] = h;
-        system.move_positions(y_plus, dx);
-        dx[c] = -h;
-        system.move_positions(y_minus, dx);
-        static_residual(system, t0, y_plus, lambda, r_plus);
-        static_residual(system, t0, y_minus, lambda, r_minus);
-        for (unsigned int i = 0; i < nv; ++i) K(i, c) = (r_plus[i] - r_minus[i]) / (2 * h);
-      }
+    static_stiffness(system, t0, y, lambda, h, K, B);
     report.smallest_stiffness = smallest_constrained_stiffness(K, B);
     report.stable = report.smallest_stiffness >= -1e-8 * K.linfty_norm(); // finite-difference noise
   }

@@ -300,8 +300,8 @@ void System::joint_residual(const unsigned int j, const double t, const Vector<d
   for (unsigned int i = 0; i < n_own; ++i) out[n_q_cols - n_own + i] += yp[s.own_q + i] - y[nq + s.own_v + i];
   if (n_own) // - Q_own in the own velocity rows
     {
-      std::vector<double> applied(n_own, 0.0), dissipative(n_own, 0.0);
-      s.joint->own_forces(y.begin() + s.own_q, y.begin() + nq + s.own_v, t, applied.data(), dissipative.data());
+      std::vector<double> applied, dissipative;
+      own_forces(j, t, y, applied, dissipative);
       for (unsigned int i = 0; i < n_own; ++i) out[n_q_cols + n_v_cols - n_own + i] -= applied[i] + dissipative[i];
     }
   // B^T lambda into the v rows, B v + Phi_t, Phi

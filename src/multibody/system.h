@@ -161,6 +161,9 @@ private:
   };
 
   void layout_multipliers();
+  /// Joint @p j's own forces at (t, y), applied and dissipative parts (n_own_coordinates() each).
+  void own_forces(unsigned int j, double t, const dealii::Vector<double> &y, std::vector<double> &applied,
+                  std::vector<double> &dissipative) const;
   void build_element_indices();
   unsigned int body_index(const Body &b) const;
   // Element residuals, into local rows (ElementIndices::rows order)

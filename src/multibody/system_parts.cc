@@ -34,28 +34,34 @@ void System::generalized_forces(const double t, const Vector<double> &y, Vector<
       for (const unsigned int b : forces[f].body_index) Qb.push_back(bodies[b].body->n_v() ? &Q[bodies[b].v] : nullptr);
       forces[f].force->add_forces(force_q(f, y), force_v(f, y), t, Qb);
     }
-  for (const auto &j : joints)
+  std::vector<double> applied, dissipative;
+  for (unsigned int j = 0; j < joints.size(); ++j)
     {
-      const unsigned int n_own = j.joint->n_own_coordinates();
-      if (!n_own) continue;
-      std::vector<double> applied(n_own, 0.0), dissipative(n_own, 0.0);
-      j.joint->own_forces(y.begin() + j.own_q, y.begin() + nq + j.own_v, t, applied.data(), dissipative.data());
-      for (unsigned int i = 0; i < n_own; ++i) Q[j.own_v + i] += applied[i] + dissipative[i];
+      own_forces(j, t, y, applied, dissipative);
+      for (unsigned int i = 0; i < applied.size(); ++i) Q[joints[j].own_v + i] += applied[i] + dissipative[i];
     }
+}
+
+void System::own_forces(const unsigned int j, const double t, const Vector<double> &y, std::vector<double> &applied,
+                        std::vector<double> &dissipative) const
+{
+  const JointSlot &s = joints[j];
+  const unsigned int n_own = s.joint->n_own_coordinates();
+  applied.assign(n_own, 0.0);
+  dissipative.assign(n_own, 0.0);
+  if (n_own) s.joint->own_forces(y.begin() + s.own_q, y.begin() + nq + s.own_v, t, applied.data(), dissipative.data());
 }
 
 void System::own_force_powers(const double t, const Vector<double> &y, double &applied_power,
                               double &dissipated_power) const
 {
   applied_power = dissipated_power = 0;
-  for (const auto &j : joints)
+  std::vector<double> applied, dissipative;
+  for (unsigned int j = 0; j < joints.size(); ++j)
     {
-      const unsigned int n_own = j.joint->n_own_coordinates();
-      if (!n_own) continue;
-      std::vector<double> applied(n_own, 0.0), dissipative(n_own, 0.0);
-      const double *v = y.begin() + nq + j.own_v;
-      j.joint->own_forces(y.begin() + j.own_q, v, t, applied.data(), dissipative.data());
-      for (unsigned int i = 0; i < n_own; ++i)
+      own_forces(j, t, y, applied, dissipative);
+      const double *v = y.begin() + nq + joints[j].own_v;
+      for (unsigned int i = 0; i < applied.size(); ++i)
         {
           applied_power += applied[i] * v[i];
           dissipated_power -= dissipative[i] * v[i];
