@@ -23,7 +23,8 @@ References: each method's richest basis (a converged run) and the other method's
      with every Young's modulus multiplied by --stiffer, that distance falls at least as the
      elastic deflection to the power --min-order (> 1). A basis error or a mistake in either
      method is of first order: it falls like the deflection itself (the richest basis step does,
-     measured exponent 1.0, doc/validation.md). What is left is the linear floating-frame model's
+     measured exponent 1.0, doc/validation.md); a bound of 1.3 keeps the two apart by a factor
+     of two in the distance ratio at --stiffer 8. What is left is the linear floating-frame model's
      dependence on its frame (root against mean axes), which is of order u^2 / L.
 
 Usage: cb_vs_fi.py FLEXTRACK OUTPUT_FOLDER [--modes 2,4,8,16] [--end-time 0.3] [--rtol 1e-9] ...
@@ -58,7 +59,7 @@ def parse_arguments():
                    help="bound on the richest runs' distance over the largest elastic tip deflection [-]")
     p.add_argument("--stiffer", type=float, default=8.0,
                    help="factor on the Young's moduli for the order check; 0: no order check [-]")
-    p.add_argument("--min-order", type=float, default=1.4,
+    p.add_argument("--min-order", type=float, default=1.3,
                    help="required exponent p: distance ratio >= (deflection ratio)^p [-]")
     p.add_argument("--integrator-check", action="store_true",
                    help="also run each richest basis at rtol / 10 and report the change (the integrator error)")
@@ -107,12 +108,9 @@ def write_case(folder, method, modes, args, rtol, rigid=False, stiffer=1.0):
     scene = replace_entry(scene, "End time", repr(args.end_time))
     scene = replace_entry(scene, "Relative tolerance", repr(rtol))
     scene = replace_entry(scene, "Absolute tolerance", repr(args.atol))
-    scene = scene.replace("  end\nend\nsubsection Body boom",
-                          f"    set Velocity tolerance = {args.velocity_tolerance!r}\n  end\nend\nsubsection Body boom", 1)
+    scene = replace_entry(scene, "Velocity tolerance", repr(args.velocity_tolerance))
     if rigid:
         scene = replace_entry(scene, "Geometric stiffening", "false\n  set Rigid = true")
-    if "Velocity tolerance" not in scene:
-        raise SystemExit("cb_vs_fi.py: could not add Velocity tolerance to the Integrator subsection of the template")
     path = os.path.join(folder, "boom_pendulum.prm")
     with open(path, "w") as f:
         f.write(scene)
