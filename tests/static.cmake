@@ -31,3 +31,22 @@ set_tests_properties(cli_bad_input_static_load_beyond_arm cli_bad_input_static_n
 flextrack_static_test(cli_bad_input_static_unknown_node_set static_unknown_node_set.prm
   "-DEXPECT_ERROR=^flextrack: error: [^\n]*static_unknown_node_set.prm: entry 'Load case extension/Node set forces': node set 'TIP' does not exist in box [^\n]*; allowed: XMAX, XMIN, YMAX, YMIN, ZMAX, ZMIN\n$")
 set_tests_properties(cli_bad_input_static_unknown_node_set PROPERTIES LABELS "cli;badinput")
+
+# Body scenes: every load case solved with the full FE model and the reduced body (issue 12 item 3).
+function(flextrack_body_static_test name prm)
+  add_test(NAME ${name}
+    COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:flextrack> -DPRM=${CMAKE_CURRENT_SOURCE_DIR}/static_input/${prm}
+            -DOUT=${CMAKE_CURRENT_BINARY_DIR}/static_output/${name} ${ARGN}
+            -P ${CMAKE_CURRENT_SOURCE_DIR}/static_input/expect_body_static.cmake)
+  set_tests_properties(${name} PROPERTIES LABELS cli)
+endfunction()
+# Quarter ring with track load modes (default reduction: 20 normal modes, 8 stations), point
+# loads between stations at 0.37 L and 0.61 L and gravity, reported at the two load points (2 x 3
+# differences): within 1e-4, the accuracy ReducedBody.track_load_modes_represent_loads_between_stations
+# shows for the same body and loads (1.2e-5; measured here 8.0e-6, 1.2e-5 and 1.2e-7..1.8e-7).
+flextrack_body_static_test(cli_static_body_loads_between_track_stations body_ring_between_stations.prm
+  -DCOUNT=6 -DMAX_DIFFERENCE=1e-4)
+# Craig-Bampton body, force and moment at its interface: exact up to round-off (bound 1e-8, as
+# ReducedBody.craig_bampton_of_an_arm_clamped_in_a_block; measured 1.9e-11).
+flextrack_body_static_test(cli_static_body_craig_bampton_interface_exact body_bracket_interface.prm
+  -DCOUNT=1 -DMAX_DIFFERENCE=1e-8)

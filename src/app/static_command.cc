@@ -9,13 +9,19 @@
 // is then one forward/backward solve. Reported per case: the displacements at the report points,
 // the support reactions and their resultant against the resultant of the applied loads
 // (equilibrium), and the strain energy. Nothing is written until every case is solved.
+//
+// A body scene ('Model = body') is solved twice per case (reduction/body_statics.h): with the
+// full FE model and with the reduced body of its Reduction settings (K_r eta = Phi^T f), and the
+// relative difference is printed at every report place: how good the basis is for that load.
 #include <app/commands.h>
 #include <base/input_error.h>
 #include <fem/curved_beam_model.h>
 #include <fem/load_case.h>
 #include <fem/solid_model.h>
 #include <io/arm_scene.h>
+#include <io/body_scene.h>
 #include <io/output_folder.h>
+#include <reduction/body_statics.h>
 #include <reduction/static_solver.h>
 
 #include <deal.II/base/mpi.h>
@@ -239,27 +245,192 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
     }
   return report;
 }
+
+/// A body scene with its load cases: read here (io/body_scene.h declares no load cases) with
+/// the body's own declarations plus "Static" and every "Load case NAME".
+struct BodyStaticScene
+{
+  fem::Body body;
+  reduction::ReductionSettings reduction;
+  io::OutputSettings output;
+  fem::StaticSettings statics;
+  std::vector<fem::LoadCase> load_cases;
+};
+
+BodyStaticScene read_body_static_scene(const io::SceneFile &file, ParameterHandler &prm)
+{
+  BodyStaticScene scene;
+  io::declare_body_scene(prm, fem::Body::parse_arm_list(*file.lists));
+  fem::StaticSettings::declare_parameters(prm);
+  fem::LoadCase::declare_parameters(prm, fem::StaticSettings::parse_load_case_list(*file.lists));
+  file.parse(prm, false);
+  scene.body = fem::Body::parse_parameters(prm, file.directory);
+  scene.reduction = reduction::ReductionSettings::parse_parameters(prm);
+  scene.output = io::OutputSettings::parse_parameters(prm);
+  scene.statics = fem::StaticSettings::parse_parameters(prm, nullptr, nullptr, &scene.body);
+  for (const auto &name : scene.statics.load_cases)
+    scene.load_cases.push_back(fem::LoadCase::parse_parameters(prm, name, nullptr, nullptr, &scene.body));
+  if (scene.load_cases.empty())
+    throw InputError("Static/Load cases", "the scene has no load case; list them here and describe each in "
+                                          "'subsection Load case NAME'");
+  return scene;
+}
+
+std::string place_text(const reduction::PlaceValues &v)
+{
+  std::ostringstream o;
+  o << std::setprecision(10) << "u = (" << v[0] << ", " << v[1] << ", " << v[2] << ") m, theta = (" << v[3] << ", "
+    << v[4] << ", " << v[5] << ") rad";
+  return o.str();
+}
+
+void print_body_case(const reduction::BodyStaticCase &r, const std::vector<fem::LoadPoint> &places)
+{
+  std::cout << "\n  load case " << r.name << "\n";
+  for (std::size_t k = 0; k < places.size(); ++k)
+    std::cout << "    " << places[k].label << ":\n      full:     " << place_text(r.full[k])
+              << "\n      reduced:  " << place_text(r.reduced[k]) << "\n" << std::scientific << std::setprecision(2)
+              << "      reduced against full: |u_r - u| / |u| = " << r.displacement_difference(k)
+              << ",  |theta_r - theta| / |theta| = " << r.rotation_difference(k) << "\n"
+              << std::defaultfloat;
+  std::cout << std::setprecision(10) << "    strain energy:  full " << r.strain_energy_full << " J, reduced "
+            << r.strain_energy_reduced << " J;" << std::scientific << std::setprecision(2)
+            << "  relative residual of K u = f " << r.residual << "\n"
+            << std::defaultfloat;
+}
+
+std::string body_csv(const std::vector<reduction::BodyStaticCase> &cases, const std::vector<fem::LoadPoint> &places)
+{
+  std::ostringstream csv;
+  csv << "load_case,place,ux_m,uy_m,uz_m,theta_x_rad,theta_y_rad,theta_z_rad,reduced_ux_m,reduced_uy_m,reduced_uz_m,"
+         "reduced_theta_x_rad,reduced_theta_y_rad,reduced_theta_z_rad,displacement_difference,rotation_difference\n";
+  for (const auto &r : cases)
+    for (std::size_t k = 0; k < places.size(); ++k)
+      {
+        csv << r.name << "," << places[k].label;
+        for (const double v : r.full[k]) csv << "," << io::csv_number(v);
+        for (const double v : r.reduced[k]) csv << "," << io::csv_number(v);
+        csv << "," << io::csv_number(r.displacement_difference(k)) << "," << io::csv_number(r.rotation_difference(k))
+            << "\n";
+      }
+  return csv.str();
+}
+
+std::string body_cases_json(const std::vector<reduction::BodyStaticCase> &cases,
+                            const std::vector<fem::LoadPoint> &places)
+{
+  std::string list = "[";
+  for (std::size_t i = 0; i < cases.size(); ++i)
+    {
+      const auto &r = cases[i];
+      std::string at = "[";
+      for (std::size_t k = 0; k < places.size(); ++k)
+        {
+          io::JsonObject p;
+          p.add("at", places[k].label)
+            .add("full", std::vector<double>(r.full[k].begin(), r.full[k].end()))
+            .add("reduced", std::vector<double>(r.reduced[k].begin(), r.reduced[k].end()))
+            .add("displacement_difference", r.displacement_difference(k))
+            .add("rotation_difference", r.rotation_difference(k));
+          at += (k ? ", " : "") + p.str(6);
+        }
+      io::JsonObject c;
+      c.add("name", r.name)
+        .raw("points", at + "]")
+        .add("strain_energy_full_J", r.strain_energy_full)
+        .add("strain_energy_reduced_J", r.strain_energy_reduced)
+        .add("relative_residual", r.residual);
+      list += (i ? ", " : "") + c.str(4);
+    }
+  return list + "]";
+}
+
+int body_static_command(const Options &options, const io::SceneFile &file, CommandClock &clock)
+{
+  auto &timer = clock.timer;
+  ParameterHandler prm;
+  BodyStaticScene scene;
+  std::unique_ptr<fem::BodyModel> model;
+  reduction::ReducedBasis basis;
+  std::vector<fem::LoadPoint> places;
+  std::vector<reduction::BodyStaticCase> cases;
+  try
+    {
+      {
+        TimerOutput::Scope t(timer, "read parameters and geometry");
+        scene = read_body_static_scene(file, prm);
+      }
+      {
+        TimerOutput::Scope t(timer, "assemble K");
+        model = std::make_unique<fem::BodyModel>(scene.body);
+      }
+      std::cout << "flextrack static: " << file.name << "\n  body: " << model->n_dofs() << " body dofs ("
+                << model->n_full_dofs() << " before ties and supports), " << scene.load_cases.size() << " load case"
+                << (scene.load_cases.size() == 1 ? "" : "s") << "; reduced by " << scene.reduction.method_name()
+                << std::endl;
+      basis = reduction::reduce(*model, scene.reduction, &timer);
+      std::cout << "  reduced body: " << basis.modes.size() << " modes (" << basis.n_normal << " normal, "
+                << basis.n_interface << " interface, " << basis.n_track << " track load)" << std::endl;
+      places = scene.statics.body_points.empty() ? reduction::default_body_places(scene.body, scene.load_cases)
+                                                 : scene.statics.body_points;
+      TimerOutput::Scope t(timer, "factorise and solve");
+      const reduction::BodyStatics statics(*model, basis, scene.reduction);
+      cases = statics.solve(scene.load_cases, places);
+    }
+  catch (const InputError &e)
+    {
+      throw e.file().empty() ? e.in_file(file.name) : e;
+    }
+  for (const auto &r : cases) print_body_case(r, places);
+
+  io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
+  {
+    TimerOutput::Scope t(timer, "write output");
+    out.add_text("static.csv", body_csv(cases, places));
+    out.add_parameters(prm);
+    io::JsonObject summary;
+    summary.add("program", "flextrack " FLEXTRACK_VERSION)
+      .add("command", "static")
+      .add("parameter_file", options.file)
+      .add("model", "body")
+      .add("body_degrees_of_freedom", model->n_dofs())
+      .add("reduction_method", scene.reduction.method_name())
+      .add("reduced_modes", static_cast<unsigned int>(basis.modes.size()))
+      .raw("load_cases", body_cases_json(cases, places))
+      .add("wall_time_s", io::timings_json(timer))
+      .add("total_wall_time_s", clock.wall.wall_time())
+      .add("peak_memory_MiB", io::peak_memory_mib())
+      .raw("parameters", io::parameters_as_json(prm));
+    out.add_summary(summary);
+  }
+  out.commit();
+  std::cout << "\n";
+  print_timings(clock);
+  std::cout << "  results in " << out.path() << "/ (static.csv, summary.json)" << std::endl;
+  return 0;
+}
 } // namespace
 
 int static_command(const Options &options, const io::SceneFile &file)
 {
   CommandClock clock;
   auto &timer = clock.timer;
+  if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+    throw InputError("", "'flextrack static' runs on one process; start it without mpirun", file.name);
+  if (file.model == "body") return body_static_command(options, file, clock);
   ParameterHandler prm;
   io::ArmScene scene;
   {
     TimerOutput::Scope t(timer, "read parameters and geometry");
     if (file.model != "arm" && file.model != "solid")
-      throw InputError("Model", "'flextrack static' solves arm and solid scenes ('Model = arm' or 'solid'); this "
-                                "scene is '" + file.model + "'", file.name);
+      throw InputError("Model", "'flextrack static' solves arm, solid and body scenes ('Model = arm', 'solid' or "
+                                "'body'); this scene is '" + file.model + "'", file.name);
     io::declare_arm_scene(prm);
     scene = io::read_arm_scene(file, prm);
     if (scene.load_cases.empty())
       throw InputError("Static/Load cases", "the scene has no load case; list them here and describe each in "
                                             "'subsection Load case NAME'", file.name);
   }
-  if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
-    throw InputError("", "'flextrack static' runs on one process; start it without mpirun", file.name);
   Report report;
   try
     {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <iomanip>
 #include <sstream>
 
 namespace flextrack::fem
@@ -56,7 +57,8 @@ Tensor<1, 3> vector3(const std::string &text, const std::string &entry, const st
 /// @p name (upper-cased) if @p solid has that node set; InputError naming @p entry otherwise.
 std::string node_set(const std::string &name, const std::string &entry, const Solid *solid)
 {
-  if (!solid) throw InputError(entry, "the scene has no solid: node sets apply to 'Model = solid' scenes");
+  if (!solid)
+    throw InputError(entry, "the scene has no solid: node sets apply to 'Model = solid' scenes and bodies with a solid");
   std::string upper = name;
   for (auto &c : upper) c = std::toupper(static_cast<unsigned char>(c));
   const auto &sets = solid->mesh->node_sets;
@@ -65,6 +67,63 @@ std::string node_set(const std::string &name, const std::string &entry, const So
   for (const auto &[set, nodes] : sets) allowed += (allowed.empty() ? "" : ", ") + set;
   throw InputError(entry, "node set '" + base::printable_excerpt(name) + "' does not exist in " + solid->mesh->source +
                             "; allowed: " + (allowed.empty() ? "(the mesh has no node sets)" : allowed));
+}
+
+/// Names for an "allowed:" list.
+std::string joined(const std::vector<std::string> &names)
+{
+  std::string text;
+  for (const auto &n : names) text += (text.empty() ? "" : ", ") + n;
+  return text.empty() ? "(none)" : text;
+}
+
+/// The body's arm called @p name (InputError naming @p entry and the arms otherwise).
+unsigned int body_arm(const std::string &name, const std::string &entry, const Body &body)
+{
+  const int a = body.arm_index(name);
+  if (a < 0)
+    throw InputError(entry, "'" + base::printable_excerpt(name) + "' is not an arm of the body; allowed: " +
+                              joined(body.arm_names));
+  return a;
+}
+
+/// A place "S" on the arm of an arm scene, or "ARM S" / "NAME" (interface or output point) on a
+/// body. InputError naming @p entry if it is none of these.
+LoadPoint load_point(const std::string &where, const std::string &entry, const std::string &what, const Arm *arm,
+                     const Body *body)
+{
+  LoadPoint p;
+  const auto w = base::words(where);
+  if (arm)
+    {
+      if (w.size() != 1) throw InputError(entry, what + " at '" + base::printable_excerpt(where) + "': allowed: an arc length S [m]");
+      p.s = arc_length(w[0], entry, what, *arm);
+      std::ostringstream label;
+      label << "s = " << std::setprecision(8) << p.s << " m";
+      p.label = label.str();
+      return p;
+    }
+  if (!body)
+    throw InputError(entry, "the scene has no arm: point and line loads at arc lengths apply to 'Model = arm' and "
+                            "'Model = body' scenes");
+  if (w.size() == 2)
+    {
+      p.arm = body_arm(w[0], entry, *body);
+      p.s = arc_length(w[1], entry, what + " on arm '" + w[0] + "'", body->arms[p.arm]);
+      p.label = w[0] + " " + w[1];
+      return p;
+    }
+  std::vector<std::string> names;
+  for (const auto &i : body->interfaces) names.push_back(i.name);
+  for (const auto &o : body->output_points) names.push_back(o.name);
+  if (w.size() == 1 && std::find(names.begin(), names.end(), w[0]) != names.end())
+    {
+      p.point = p.label = w[0];
+      return p;
+    }
+  throw InputError(entry, what + " at '" + base::printable_excerpt(where) +
+                            "': allowed: 'ARM S' (an arm of the body and an arc length [m] on it) or an interface or "
+                            "output point of the body: " + joined(names));
 }
 
 /// The ';'-separated items of an entry, at most max_load_items of them.
@@ -99,14 +158,16 @@ void LoadCase::declare_parameters(ParameterHandler &prm, const std::vector<std::
       prm.declare_entry("Point forces", "", dealii::Patterns::Anything(),
                         "Arm: forces at arc lengths, separated by ';': 'S: Fx Fy Fz' with S [m], 0 <= S <= L, and the "
                         "force [N] in global axes, each component at most 1e12 N in size. A mesh node is placed at "
-                        "each S. At most 1000.");
+                        "each S. Body: 'ARM S: Fx Fy Fz' (an arm of the body, S [m] on it; consistent nodal loads "
+                        "between nodes) or 'POINT: Fx Fy Fz' (an interface or output point). At most 1000.");
       prm.declare_entry("Point moments", "", dealii::Patterns::Anything(),
                         "Arm: moments at arc lengths, separated by ';': 'S: Mx My Mz' with S [m], 0 <= S <= L, and the "
-                        "moment [N m] in global axes, each component at most 1e12 N m in size. At most 1000.");
+                        "moment [N m] in global axes, each component at most 1e12 N m in size. Body: 'ARM S: ...' or "
+                        "'POINT: ...' as for the forces. At most 1000.");
       prm.declare_entry("Line loads", "", dealii::Patterns::Anything(),
                         "Arm: uniform distributed forces, separated by ';': 'S0 S1: qx qy qz' on S0 <= s <= S1 "
                         "[m], 0 <= S0 < S1 <= L, force per unit arc length [N/m] in global axes, each component at "
-                        "most 1e12 N/m in size. At most 1000.");
+                        "most 1e12 N/m in size. Body: 'ARM S0 S1: qx qy qz'. At most 1000.");
       prm.declare_entry("Node set forces", "", dealii::Patterns::Anything(),
                         "Solid: total forces on node sets, separated by ';': 'SET: Fx Fy Fz' [N], global axes, each "
                         "component at most 1e12 N in size. The force is spread as a uniform traction over the "
@@ -119,39 +180,48 @@ void LoadCase::declare_parameters(ParameterHandler &prm, const std::vector<std::
     }
 }
 
-LoadCase LoadCase::parse_parameters(ParameterHandler &prm, const std::string &name, const Arm *arm, const Solid *solid)
+LoadCase LoadCase::parse_parameters(ParameterHandler &prm, const std::string &name, const Arm *arm, const Solid *solid,
+                                    const Body *body)
 {
   LoadCase c;
   c.name = name;
   const std::string path = section_of(name) + "/";
+  if (body && body->solid) solid = &*body->solid;
   prm.enter_subsection(section_of(name));
-  const auto needs_arm = [&](const std::string &entry, const auto &list) {
-    if (!list.empty() && !arm)
-      throw InputError(path + entry, "the scene has no arm: point and line loads at arc lengths apply to "
-                                     "'Model = arm' scenes");
-  };
   const auto point_loads = [&](const std::string &entry_name, const std::string &what,
                                const geometry::NumberRange &range, std::vector<ArmPointLoad> &loads) {
     const std::string entry = path + entry_name;
-    const auto list = items(prm, entry_name, entry, "S: x y z");
-    needs_arm(entry_name, list);
-    for (const auto &[where, value] : list)
-      loads.push_back({arc_length(where, entry, what, *arm), vector3(value, entry, what, range)});
+    for (const auto &[where, value] : items(prm, entry_name, entry, body ? "ARM S: x y z' or 'POINT: x y z" : "S: x y z"))
+      {
+        ArmPointLoad load;
+        static_cast<LoadPoint &>(load) = load_point(where, entry, what, arm, body);
+        load.value = vector3(value, entry, what, range);
+        loads.push_back(load);
+      }
   };
   point_loads("Point forces", "point force", force_range, c.point_forces);
   point_loads("Point moments", "point moment", moment_range, c.point_moments);
 
   const std::string line_entry = path + "Line loads";
-  const auto lines = items(prm, "Line loads", line_entry, "S0 S1: qx qy qz");
-  needs_arm("Line loads", lines);
-  for (const auto &[where, value] : lines)
+  for (const auto &[where, value] : items(prm, "Line loads", line_entry, body ? "ARM S0 S1: qx qy qz" : "S0 S1: qx qy qz"))
     {
-      const auto w = base::words(where);
+      if (!arm && !body)
+        throw InputError(line_entry, "the scene has no arm: line loads apply to 'Model = arm' and 'Model = body' scenes");
+      auto w = base::words(where);
+      ArmLineLoad l;
+      if (body && w.size() == 3)
+        {
+          l.arm = body_arm(w[0], line_entry, *body);
+          w.erase(w.begin());
+        }
+      else if (body)
+        throw InputError(line_entry, "'" + base::printable_excerpt(where) + "' is not 'ARM S0 S1' (an arm of the body "
+                                     "and an interval [m] on it)");
       if (w.size() != 2)
         throw InputError(line_entry, "'" + base::printable_excerpt(where) + "' is not an interval 'S0 S1' [m]");
-      ArmLineLoad l;
-      l.s0 = arc_length(w[0], line_entry, "line load start", *arm);
-      l.s1 = arc_length(w[1], line_entry, "line load end", *arm);
+      const Arm &on = arm ? *arm : body->arms[l.arm];
+      l.s0 = arc_length(w[0], line_entry, "line load start", on);
+      l.s1 = arc_length(w[1], line_entry, "line load end", on);
       if (!(l.s1 > l.s0))
         throw InputError(line_entry, "line load on '" + base::printable_excerpt(where) + "': allowed: S0 < S1");
       l.q = vector3(value, line_entry, "line load", line_load_range);
@@ -233,17 +303,21 @@ void StaticSettings::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Points", "", dealii::Patterns::Anything(),
                     "Arm: arc lengths S [m], 0 <= S <= L, separated by commas, where 'flextrack static' reports "
                     "the displacement and rotation (a mesh node is placed at each); empty: the end of the arm "
-                    "(s = L). At most 1000.");
+                    "(s = L). Body: places 'ARM S' (an arm of the body, S [m] on it) or names of interfaces and "
+                    "output points, separated by commas, where the full and the reduced body's displacements are "
+                    "compared; empty: every interface, output point and point load. At most 1000.");
   prm.declare_entry("Node sets", "", dealii::Patterns::Anything(),
                     "Solid: node sets whose mean displacement [m] 'flextrack static' reports, separated by commas; "
                     "empty: the node sets that carry forces. At most 1000.");
   prm.leave_subsection();
 }
 
-StaticSettings StaticSettings::parse_parameters(ParameterHandler &prm, const Arm *arm, const Solid *solid)
+StaticSettings StaticSettings::parse_parameters(ParameterHandler &prm, const Arm *arm, const Solid *solid,
+                                                const Body *body)
 {
   StaticSettings s;
   s.load_cases = parse_load_case_list(prm);
+  if (body && body->solid) solid = &*body->solid;
   prm.enter_subsection("Static");
   const auto points = base::split(prm.get("Points"), ',');
   const auto sets = base::words(prm.get("Node sets"));
@@ -256,9 +330,17 @@ StaticSettings StaticSettings::parse_parameters(ParameterHandler &prm, const Arm
   if (points.size() > max_load_items)
     throw InputError(entry, std::to_string(points.size()) + " points; at most " + std::to_string(max_load_items) +
                               " are allowed");
-  if (!points.empty() && !arm)
-    throw InputError(entry, "the scene has no arm: report points at arc lengths apply to 'Model = arm' scenes");
-  for (const auto &p : points) s.points.push_back(arc_length(p, entry, "report point", *arm));
+  if (!points.empty() && !arm && !body)
+    throw InputError(entry, "the scene has no arm: report points at arc lengths apply to 'Model = arm' and "
+                            "'Model = body' scenes");
+  for (const auto &p : points)
+    {
+      const auto place = load_point(p, entry, "report point", arm, body);
+      if (arm)
+        s.points.push_back(place.s);
+      else
+        s.body_points.push_back(place);
+    }
   return s;
 }
 } // namespace flextrack::fem

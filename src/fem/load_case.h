@@ -14,11 +14,15 @@
 //     set Gravity       = 0, 0, -9.81          # [m/s^2], acts on the density of the material
 //     set Node set forces = XMAX: 0 0 -100     # solid: total force [N] on a node set
 //   end
+// In a body scene ('Model = body') a point load acts at 'ARM S' (an arm of the body and an arc
+// length on it) or at 'NAME' (an interface or output point of the body), a line load on
+// 'ARM S0 S1'; Static/Points lists such places too.
 // The load vectors themselves are built by the FE models (CurvedBeamModel::add_point_load, ...),
 // the exact resultant of the loads (for the equilibrium check) here.
 #pragma once
 
 #include <fem/arm.h>
+#include <fem/body.h>
 #include <fem/solid.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -33,17 +37,28 @@ namespace flextrack::fem
 constexpr unsigned int max_load_cases = 1000;
 constexpr unsigned int max_load_items = 1000;
 
-/// A force [N] or moment [N m] at arc length s [m] of an arm, global axes.
-struct ArmPointLoad
+/// A place on an arm scene's arm (arc length s [m]) or on a body: arc length s on the body's arm
+/// number 'arm', or the body's interface or output point called 'point'.
+struct LoadPoint
 {
   double s = 0;
+  unsigned int arm = 0; ///< index in Body::arms (0 in an arm scene)
+  std::string point;    ///< a body's interface or output point; empty: (arm, s)
+  std::string label;    ///< as the user wrote it, for the report ("boom 0.35", "tip", "s = 1.5 m")
+};
+
+/// A force [N] or moment [N m] at a LoadPoint (an arm's arc length s [m]), global axes.
+struct ArmPointLoad : LoadPoint
+{
   dealii::Tensor<1, 3> value;
 };
 
-/// A uniform distributed force q [N/m] (global axes) on s0 <= s <= s1 [m] of an arm.
+/// A uniform distributed force q [N/m] (global axes) on s0 <= s <= s1 [m] of an arm (a body's
+/// arm number 'arm').
 struct ArmLineLoad
 {
   double s0 = 0, s1 = 0;
+  unsigned int arm = 0;
   dealii::Tensor<1, 3> q;
 };
 
@@ -73,10 +88,11 @@ struct LoadCase
   /// Declares "subsection Load case NAME" for each of @p names.
   static void declare_parameters(dealii::ParameterHandler &prm, const std::vector<std::string> &names);
   /// Reads "subsection Load case @p name"; the arc lengths are checked against @p arm, the node
-  /// sets against @p solid (either null where the scene has none: then its loads are refused).
-  /// InputError naming the entry.
+  /// sets against @p solid (either null where the scene has none: then its loads are refused);
+  /// with @p body (a body scene; @p arm null) the places are 'ARM S' or an interface / output
+  /// point, the node sets those of the body's solid. InputError naming the entry.
   static LoadCase parse_parameters(dealii::ParameterHandler &prm, const std::string &name, const Arm *arm,
-                                   const Solid *solid = nullptr);
+                                   const Solid *solid = nullptr, const Body *body = nullptr);
 
   /// The exact resultant about the origin of the loads of this case on @p arm (point loads at
   /// their curve points, line loads and gravity integrated along the exact centre line).
@@ -92,13 +108,15 @@ struct StaticSettings
 {
   std::vector<std::string> load_cases;
   std::vector<double> points; ///< arm: arc lengths [m]; empty = the end of the arm
+  std::vector<LoadPoint> body_points; ///< body: 'ARM S' or interface / output points; empty: see static_command
   std::vector<std::string> node_sets; ///< solid: mean displacement reported; empty = the loaded sets
 
   /// "Static/Load cases" alone (first pass of a scene, io/scene_file.cc).
   static void declare_load_case_list(dealii::ParameterHandler &prm);
   static std::vector<std::string> parse_load_case_list(dealii::ParameterHandler &prm);
   static void declare_parameters(dealii::ParameterHandler &prm);
-  /// @p arm, @p solid: the structure of the scene (checks the points, node sets), or null.
-  static StaticSettings parse_parameters(dealii::ParameterHandler &prm, const Arm *arm, const Solid *solid = nullptr);
+  /// @p arm, @p solid, @p body: the structure of the scene (checks the points, node sets), or null.
+  static StaticSettings parse_parameters(dealii::ParameterHandler &prm, const Arm *arm, const Solid *solid = nullptr,
+                                         const Body *body = nullptr);
 };
 } // namespace flextrack::fem
