@@ -1,5 +1,5 @@
 // flextrack run: the time simulation of a multibody scene, step-44 style: read the scene and
-// build the system (io), make the initial conditions consistent, integrate with IDA (multibody),
+// build the system (io), make the initial conditions consistent, integrate (multibody: IDA or generalised-alpha),
 // record probes, monitors and the state at every output time (io), summarise.
 //
 // The output rule of every command holds for bad input: nothing is written. A solver failure is
@@ -137,31 +137,31 @@ multibody::InitialConditionReport consistent_start(io::MultibodyScene &scene, Ve
     }
 }
 
-/// Integrates with @p ida (initialised) to the end time of @p settings, calling @p output at every
+/// Integrates with @p integrator (initialised) to the end time of @p settings, calling @p output at every
 /// output time after the start. Returns "" when the end time is reached, else why not: the solver
-/// failure, or where the run stopped at the end of a track (IDA's root finding on the limits).
-std::string integrate(multibody::System &system, multibody::IdaIntegrator &ida, const multibody::SimulationSettings &settings,
+/// failure, or where the run stopped at the end of a track (root finding on the limits).
+std::string integrate(multibody::System &system, multibody::TimeIntegrator &integrator, const multibody::SimulationSettings &settings,
                       const std::function<void(double, const Vector<double> &)> &output)
 {
   if (system.n_limits())
-    ida.set_root_functions(system.n_limits(), [&system](double, const Vector<double> &state, const Vector<double> &,
+    integrator.set_root_functions(system.n_limits(), [&system](double, const Vector<double> &state, const Vector<double> &,
                                                         double *g) { system.limit_values(state, g); });
   try
     {
-      ida.integrate(settings.end_time, settings.output_interval,
+      integrator.integrate(settings.end_time, settings.output_interval,
                     [&](const double time, const Vector<double> &state, const Vector<double> &) { output(time, state); });
     }
   catch (const SolverError &e)
     {
       return e.what();
     }
-  for (unsigned int i = 0; i < ida.roots_found().size(); ++i)
-    if (ida.roots_found()[i] != 0)
+  for (unsigned int i = 0; i < integrator.roots_found().size(); ++i)
+    if (integrator.roots_found()[i] != 0)
       {
         Vector<double> state, rate;
-        ida.interpolate(ida.time(), state, rate);
+        integrator.interpolate(integrator.time(), state, rate);
         std::ostringstream m;
-        m << "at t = " << ida.time() << " s " << system.limit_report(i, state);
+        m << "at t = " << integrator.time() << " s " << system.limit_report(i, state);
         return m.str();
       }
   return "";
@@ -181,10 +181,11 @@ io::PathDeviation rigid_reference_deviation(const io::SceneFile &file, const io:
     {
       Vector<double> y, yp;
       consistent_start(rigid, y, yp);
-      multibody::IdaIntegrator ida(*rigid.system, rigid.settings.integrator);
-      ida.initialize(rigid.settings.start_time, y, yp);
+      const auto owned_integrator = multibody::make_integrator(*rigid.system, rigid.settings.integrator);
+      auto &integrator = *owned_integrator;
+      integrator.initialize(rigid.settings.start_time, y, yp);
       paths.record(rigid.settings.start_time, y);
-      failure = integrate(*rigid.system, ida, rigid.settings,
+      failure = integrate(*rigid.system, integrator, rigid.settings,
                           [&](const double time, const Vector<double> &state) { paths.record(time, state); });
     }
   catch (const InputError &e)
@@ -242,10 +243,11 @@ int run_command(const Options &options, const io::SceneFile &file)
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output_directory, options.file));
   io::RunRecorder recorder(system, scene.probes, out);
   io::ProbePaths paths(system, scene.probes);
-  multibody::IdaIntegrator ida(system, settings.integrator);
+  const auto owned_integrator = multibody::make_integrator(system, settings.integrator);
+  auto &integrator = *owned_integrator;
   multibody::Monitors monitors(system);
-  ida.initialize(settings.start_time, y, yp);
-  monitors.attach(ida);
+  integrator.initialize(settings.start_time, y, yp);
+  monitors.attach(integrator);
   const MonitorValues start = monitors.evaluate(settings.start_time, y);
   recorder.record(settings.start_time, y, start, 0.0);
   paths.record(settings.start_time, y);
@@ -265,12 +267,12 @@ int run_command(const Options &options, const io::SceneFile &file)
   std::string failure;
   {
     TimerOutput::Scope t(timer, "time integration");
-    failure = integrate(system, ida, settings, [&](const double time, const Vector<double> &state) {
+    failure = integrate(system, integrator, settings, [&](const double time, const Vector<double> &state) {
       const MonitorValues m = monitors.evaluate(time, state);
       recorder.record(time, state, m, multibody::Monitors::balance_error(start, m));
       paths.record(time, state);
       animate(time, state);
-      progress.update(time, ida.statistics().steps);
+      progress.update(time, integrator.statistics().steps);
     });
   }
   progress.finish();
@@ -315,7 +317,7 @@ int run_command(const Options &options, const io::SceneFile &file)
       .add("output_rows", recorder.n_rows())
       .add("animation_frames", animation ? animation->n_frames() : 0u)
       .add("unknowns", system.size())
-      .add("integrator", statistics_json(ida.statistics()))
+      .add("integrator", statistics_json(integrator.statistics()).add("method", settings.integrator.method_name()))
       .add("initial_conditions", initial_conditions_json(report))
       .add("max_over_output_rows", drift);
     if (settings.rigid_reference)
@@ -340,7 +342,7 @@ int run_command(const Options &options, const io::SceneFile &file)
   if (deviation && !plotted)
     std::cout << "  warning: gnuplot is not installed or failed: no deviation.png (deviation.gp draws it)\n";
 
-  const auto stats = ida.statistics();
+  const auto stats = integrator.statistics();
   std::cout << "  " << stats.steps << " steps (" << stats.error_test_failures << " rejected by the error test, "
             << stats.nonlinear_convergence_failures << " by Newton), " << stats.residual_evaluations << " residuals, "
             << stats.jacobian_evaluations << " Jacobians; max |Phi| " << std::setprecision(3)

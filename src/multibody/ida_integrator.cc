@@ -129,41 +129,6 @@ struct IdaCallbacks
 };
 
 // ---------------------------------------------------------------------------------------------
-void IntegratorSettings::declare_parameters(ParameterHandler &prm)
-{
-  prm.declare_entry("Relative tolerance", "1e-6", Patterns::Double(0), "IDA's relative tolerance [-].");
-  prm.declare_entry("Absolute tolerance", "1e-8", Patterns::Double(0),
-                    "IDA's absolute tolerance, the same for every unknown [m, rad, modal units, and per s].");
-  prm.declare_entry("Velocity tolerance", "0", Patterns::Double(0),
-                    "IDA's absolute tolerance of the velocities [m/s, rad/s, modal units/s], 0 to 1e6; 0: the "
-                    "absolute tolerance. A value about the absolute tolerance times the highest angular "
-                    "frequency of interest [rad/s] lets IDA step over stiff elastic modes that do not matter.");
-  prm.declare_entry("Multiplier tolerance", "1e-2", Patterns::Double(0),
-                    "Absolute tolerance of the Lagrange multipliers in IDA's Newton test [N, N m, 1/s] (they "
-                    "are not in the error test).");
-  prm.declare_entry("Maximum order", "5", Patterns::Integer(1, 5), "Largest BDF order IDA may use [-].");
-  prm.declare_entry("Maximum Newton iterations", "4", Patterns::Integer(1, 100),
-                    "Newton iterations per step before IDA rebuilds the Jacobian or cuts the step [-], 1 to 100 "
-                    "(IDA's default 4). The slewing beam (6 modes, rtol 1e-5) needs 581 Jacobians with 4 and 309 "
-                    "with 10; the laser robot gains nothing.");
-  prm.declare_entry("Maximum step", "0", Patterns::Double(0), "Largest time step [s]; 0: no limit.");
-  prm.declare_entry("Initial step", "0", Patterns::Double(0), "First time step [s]; 0: IDA's estimate.");
-  prm.declare_entry("Maximum steps", "1000000", Patterns::Integer(1), "Internal steps allowed per run [-].");
-}
-
-void IntegratorSettings::parse_parameters(ParameterHandler &prm)
-{
-  relative_tolerance = prm.get_double("Relative tolerance");
-  absolute_tolerance = prm.get_double("Absolute tolerance");
-  velocity_tolerance = prm.get_double("Velocity tolerance");
-  multiplier_tolerance = prm.get_double("Multiplier tolerance");
-  max_order = prm.get_integer("Maximum order");
-  max_newton_iterations = prm.get_integer("Maximum Newton iterations");
-  max_step = prm.get_double("Maximum step");
-  initial_step = prm.get_double("Initial step");
-  max_steps = prm.get_integer("Maximum steps");
-}
-
 // ---------------------------------------------------------------------------------------------
 IdaIntegrator::IdaIntegrator(System &s, const IntegratorSettings &settings_)
   : sun(std::make_unique<Sundials>()), system(s), settings(settings_)

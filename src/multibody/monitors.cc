@@ -50,7 +50,7 @@ Powers Monitors::step_work(const double t0, const double t1) const
   return w;
 }
 
-void Monitors::attach(IdaIntegrator &integrator)
+void Monitors::attach(TimeIntegrator &integrator)
 {
   ida = &integrator;
   integrator.set_step_hook([this](const double t0, const double t1) {

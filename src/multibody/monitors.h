@@ -13,7 +13,7 @@
 // the balance closes exactly only without it.
 #pragma once
 
-#include <multibody/ida_integrator.h>
+#include <multibody/time_integrator.h>
 #include <multibody/system.h>
 
 #include <deal.II/lac/vector.h>
@@ -44,7 +44,7 @@ public:
   explicit Monitors(const System &system) : system(system) {}
   /// Integrates the powers over every internal step of @p integrator (sets its step hook);
   /// @p integrator must outlive the calls to evaluate().
-  void attach(IdaIntegrator &integrator);
+  void attach(TimeIntegrator &integrator);
   Powers powers(double t, const dealii::Vector<double> &y) const;
   /// Everything at (t, y), with the works accumulated up to t (t inside IDA's last step, where
   /// output rows are interpolated, or at its end).
@@ -57,7 +57,7 @@ private:
   Powers step_work(double t0, double t1) const;
 
   const System &system;
-  const IdaIntegrator *ida = nullptr;
+  const TimeIntegrator *ida = nullptr;
   double work_applied = 0, work_drivers = 0, dissipated = 0; ///< up to the end of the last step
   double step_begin = 0, step_end = 0;                       ///< IDA's last step [s]
   Powers step_total;                                         ///< the works over that step [J]

@@ -110,6 +110,12 @@ SimulationSettings SimulationSettings::parse_parameters(ParameterHandler &prm)
     throw InputError("Multibody/Integrator/Multiplier tolerance", "must be > 0 (N, N m, 1/s)");
   if (!(s.integrator.relative_tolerance < 1))
     throw InputError("Multibody/Integrator/Relative tolerance", "must be < 1");
+  if (!(s.integrator.step > 0) || !(s.integrator.step <= 1e3))
+    throw InputError("Multibody/Integrator/Step", "must be > 0 and <= 1000 (s)");
+  if (s.integrator.method == IntegrationMethod::generalized_alpha && !s.integrator.adaptive_step &&
+      (s.end_time - s.start_time) / s.integrator.step > 1e8)
+    throw InputError("Multibody/Integrator/Step", "gives more than 1e8 steps over the run; choose a longer step or "
+                                                  "'Adaptive step' = true");
   if (!(s.end_time > s.start_time))
     throw InputError("Multibody/End time", "must be later than the start time (" + std::to_string(s.start_time) + " s)");
   if (s.output_interval > 0 && (s.end_time - s.start_time) / s.output_interval > 1e7)

@@ -7,7 +7,7 @@
 #pragma once
 
 #include <multibody/body.h>
-#include <multibody/ida_integrator.h>
+#include <multibody/time_integrator.h>
 
 #include <deal.II/base/parameter_handler.h>
 

@@ -302,8 +302,9 @@ struct TipHistory
   IntegratorStatistics statistics;
 };
 
-/// Runs the spin-up beam (Ts = 15 s, Ws = 6 rad/s) to @p t_end, recording v_tip every @p dt.
-TipHistory run_spin_up(const bool stiffening, const double t_end, const double dt, const double rtol)
+/// Runs the spin-up beam (Ts = 15 s, Ws = 6 rad/s) to @p t_end with @p settings, recording v_tip
+/// every @p dt.
+TipHistory run_spin_up(const bool stiffening, const double t_end, const double dt, const IntegratorSettings &settings)
 {
   const auto beam = spin_up_beam();
   System s;
@@ -321,12 +322,36 @@ TipHistory run_spin_up(const bool stiffening, const double t_end, const double d
   };
   record(0, y, yp);
   const auto start = std::chrono::steady_clock::now();
-  IdaIntegrator ida(s, tight(rtol, rtol * 1e-2));
-  ida.initialize(0, y, yp);
-  ida.integrate(t_end, dt, record);
+  const auto integrator = make_integrator(s, settings);
+  integrator->initialize(0, y, yp);
+  integrator->integrate(t_end, dt, record);
   h.wall = seconds_since(start);
-  h.statistics = ida.statistics();
+  h.statistics = integrator->statistics();
   return h;
+}
+
+TipHistory run_spin_up(const bool stiffening, const double t_end, const double dt, const double rtol)
+{
+  return run_spin_up(stiffening, t_end, dt, tight(rtol, rtol * 1e-2));
+}
+
+/// The spin-up beam's run with generalised-alpha at a fixed @p step [s] and rho_inf @p rho.
+TipHistory run_spin_up_alpha(const double t_end, const double dt, const double step, const double rho)
+{
+  IntegratorSettings g = tight(1e-8, 1e-10);
+  g.method = IntegrationMethod::generalized_alpha;
+  g.step = step;
+  g.spectral_radius = rho;
+  g.max_newton_iterations = 10;
+  return run_spin_up(true, t_end, dt, g);
+}
+
+/// Largest |a - b| over the common samples.
+double largest_difference(const TipHistory &a, const TipHistory &b)
+{
+  double d = 0;
+  for (std::size_t i = 0; i < std::min(a.v.size(), b.v.size()); ++i) d = std::max(d, std::abs(a.v[i] - b.v[i]));
+  return d;
 }
 
 /// Linear interpolation of the history at @p t.
@@ -335,6 +360,19 @@ double at(const TipHistory &h, const double t)
   for (unsigned int i = 1; i < h.t.size(); ++i)
     if (h.t[i] >= t - 1e-12) return h.v[i - 1] + (h.v[i] - h.v[i - 1]) * (t - h.t[i - 1]) / (h.t[i] - h.t[i - 1]);
   return h.v.back();
+}
+/// The smallest v_tip of @p h and its time, from a parabola through the three samples around the
+/// smallest sample.
+void find_minimum(const TipHistory &h, double &t_min, double &v_min)
+{
+  unsigned int i_min = 0;
+  for (unsigned int i = 0; i < h.v.size(); ++i)
+    if (h.v[i] < h.v[i_min]) i_min = i;
+  ASSERT_GT(i_min, 0u);
+  ASSERT_LT(i_min + 1, h.v.size());
+  const double dt = h.t[i_min + 1] - h.t[i_min], a = h.v[i_min - 1], b = h.v[i_min], c = h.v[i_min + 1];
+  const double shift = 0.5 * (a - c) / (a - 2 * b + c);
+  t_min = h.t[i_min] + shift * dt, v_min = b - 0.25 * (a - c) * shift;
 }
 } // namespace
 
@@ -346,15 +384,8 @@ TEST(MultibodySpin, spin_up_beam_tip_deflection_matches_kane_ryan_banerjee)
   // tolerances (issue 9 acceptance): 2 % on the minimum, 0.05 s on its time, |v_tip| < 0.02 m
   // after t = 15 s.
   const TipHistory h = run_spin_up(true, 20, 0.005, 1e-7);
-  unsigned int i_min = 0;
-  for (unsigned int i = 0; i < h.v.size(); ++i)
-    if (h.v[i] < h.v[i_min]) i_min = i;
-  ASSERT_GT(i_min, 0u);
-  ASSERT_LT(i_min + 1, h.v.size());
-  // Parabola through the three samples around the smallest one.
-  const double dt = h.t[i_min + 1] - h.t[i_min], a = h.v[i_min - 1], b = h.v[i_min], c = h.v[i_min + 1];
-  const double shift = 0.5 * (a - c) / (a - 2 * b + c);
-  const double t_min = h.t[i_min] + shift * dt, v_min = b - 0.25 * (a - c) * shift;
+  double t_min = 0, v_min = 0;
+  find_minimum(h, t_min, v_min);
   double after_15 = 0;
   for (unsigned int i = 0; i < h.t.size(); ++i)
     if (h.t[i] > 15) after_15 = std::max(after_15, std::abs(h.v[i]));
@@ -437,4 +468,39 @@ TEST(MultibodySpin, free_beam_held_at_root_interface_stiffens_like_clamped_one)
       EXPECT_NEAR(m.chord[0], chord1[i], 5e-3 * chord1[i]); // Wright et al. (1982): 0.5 %
       EXPECT_LT(m.largest_growth_rate, 1e-6);
     }
+}
+
+TEST(MultibodySpin, generalized_alpha_spin_up_beam_matches_kane_and_converges_at_second_order)
+{
+  // Issue 11 acceptance: generalised-alpha (rho_inf 0.8, fixed steps) on the spin-up beam.
+  // References: (1) a different method, IDA (BDF) at rtol 1e-10, whose own error (against rtol
+  // 1e-9, doc/validation.md) is far below the differences measured here: the observed order of
+  // the largest tip difference over 20 s when the step halves must be 2 (the method is second
+  // order, Arnold & Bruls 2007), tolerance 0.25; (2) Kane, Ryan & Banerjee (1987), REFERENCES.md
+  // section 4, on the finest run: minimum -0.57437 m within 2 %, at 6.762 s within 0.05 s.
+  const TipHistory reference = run_spin_up(true, 20, 0.005, 1e-10);
+  const std::vector<double> steps = {0.02, 0.01, 0.005};
+  std::vector<double> errors;
+  TipHistory finest;
+  for (const double step : steps)
+    {
+      finest = run_spin_up_alpha(20, 0.005, step, 0.8);
+      errors.push_back(largest_difference(finest, reference));
+      std::cout << std::setprecision(4) << "  generalised-alpha, step " << step << " s: max |v_tip - v_ref| = "
+                << errors.back() << " m, " << finest.statistics.steps << " steps, " << finest.statistics.jacobian_evaluations
+                << " Jacobians, " << finest.statistics.residual_evaluations << " residuals, " << finest.wall
+                << " s integration wall time\n";
+    }
+  std::cout << "  IDA rtol 1e-10 (reference): " << reference.statistics.steps << " steps, " << reference.wall << " s\n";
+  for (unsigned int i = 1; i < errors.size(); ++i)
+    {
+      const double order = std::log(errors[i - 1] / errors[i]) / std::log(steps[i - 1] / steps[i]);
+      std::cout << "  observed order between steps " << steps[i - 1] << " and " << steps[i] << " s: " << order << "\n";
+      if (i + 1 == errors.size()) EXPECT_NEAR(order, 2.0, 0.25); // second order (Arnold & Bruls 2007)
+    }
+  double t_min = 0, v_min = 0;
+  find_minimum(finest, t_min, v_min);
+  std::cout << "  finest run: minimum " << v_min << " m at t = " << t_min << " s (reference -0.57437 m at 6.762 s)\n";
+  EXPECT_NEAR(v_min, -0.57437, 0.02 * 0.57437); // Kane et al. (1987), REFERENCES.md 4: 2 %
+  EXPECT_NEAR(t_min, 6.762, 0.05);              // Kane et al. (1987), REFERENCES.md 4: 0.05 s
 }
