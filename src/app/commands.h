@@ -22,6 +22,8 @@ struct Options
 /// Time simulation of a multibody scene (Model = multibody): probes.csv, monitors.csv,
 /// results.h5, summary.json, parameters_used.prm. Needs no MPI unless a body must be reduced.
 int run_command(const Options &options, const io::SceneFile &file);
+/// Work-precision of the integrators on a multibody scene: bench.csv, bench.png, summary.json.
+int bench_command(const Options &options, const io::SceneFile &file);
 /// Frequencies and damping ratios of a multibody scene linearised about its initial state.
 int linearize_command(const Options &options, const io::SceneFile &file);
 /// The parameters of a multibody scene (one body, joint, force and probe called NAME).

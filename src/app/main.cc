@@ -31,6 +31,9 @@ Usage:
                                      doc/multibody.md); other scenes: as 'modes'
   flextrack linearize FILE.prm       frequencies and damping ratios of a multibody scene
                                      linearised about its initial state
+  flextrack bench FILE.prm [-o DIR]  work-precision of the integrators on a multibody scene: a
+                                     reference run, IDA at rtol 1e-3 ... 1e-10, generalised-alpha
+                                     at 8 step sizes; error at the probes against wall time
   flextrack modes FILE.prm [-o DIR]  natural frequencies and mode shapes of the arm or solid in FILE
   mpirun -np N flextrack modes ...   the same for a solid, its mesh partitioned over N processes
   flextrack converge FILE.prm --refinements K [-o DIR]
@@ -55,6 +58,7 @@ Results go to DIR (default: output/<FILE name without extension>/):
   convergence.csv, convergence.png   (converge)
   probes.csv, monitors.csv, results.h5   (run: probe positions and velocities, constraint
                     residuals and energy balance, the full state; written up to a solver failure)
+  bench.csv, bench.png   (bench: method, setting, error per probe, wall time, steps, evaluations)
   static.csv        load case, arc length, position, displacement, rotation (static)
   reduced_body.h5   reduced matrices, inertia invariants, interface and arm mode fields (reduce;
                     layout in doc/reduced_body_file.md)
@@ -143,6 +147,7 @@ const std::vector<Command> &commands()
   // run and linearize start MPI only when they reduce a body (start_mpi_for_reduction).
   static const std::vector<Command> table{{"run", false, run_dispatch, nullptr},
                                           {"linearize", false, linearize_command, nullptr},
+                                          {"bench", false, bench_command, nullptr},
                                           {"modes", true, scene_dispatch, nullptr},
                                           {"converge", true, converge_command, nullptr},
                                           {"reduce", true, reduce_command, nullptr},

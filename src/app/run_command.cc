@@ -7,6 +7,7 @@
 // wrong, so they are committed (with summary.json saying "failed" and where), and the failure is
 // then reported with exit status 3.
 #include <app/commands.h>
+#include <app/multibody_runs.h>
 #include <base/external_program.h>
 #include <base/input_error.h>
 #include <base/solver_error.h>
@@ -122,51 +123,6 @@ io::JsonObject initial_conditions_json(const multibody::InitialConditionReport &
     }
   return j;
 }
-/// Consistent initial conditions of @p scene at its start time; InputError naming the scene file.
-multibody::InitialConditionReport consistent_start(io::MultibodyScene &scene, Vector<double> &y, Vector<double> &yp)
-{
-  try
-    {
-      multibody::InitialConditionSettings initial;
-      initial.static_equilibrium = scene.settings.static_equilibrium;
-      return multibody::consistent_initial_conditions(*scene.system, scene.settings.start_time, y, yp, initial);
-    }
-  catch (const InputError &e)
-    {
-      throw e.file().empty() ? e.in_file(scene.file) : e;
-    }
-}
-
-/// Integrates with @p integrator (initialised) to the end time of @p settings, calling @p output at every
-/// output time after the start. Returns "" when the end time is reached, else why not: the solver
-/// failure, or where the run stopped at the end of a track (root finding on the limits).
-std::string integrate(multibody::System &system, multibody::TimeIntegrator &integrator, const multibody::SimulationSettings &settings,
-                      const std::function<void(double, const Vector<double> &)> &output)
-{
-  if (system.n_limits())
-    integrator.set_root_functions(system.n_limits(), [&system](double, const Vector<double> &state, const Vector<double> &,
-                                                        double *g) { system.limit_values(state, g); });
-  try
-    {
-      integrator.integrate(settings.end_time, settings.output_interval,
-                    [&](const double time, const Vector<double> &state, const Vector<double> &) { output(time, state); });
-    }
-  catch (const SolverError &e)
-    {
-      return e.what();
-    }
-  for (unsigned int i = 0; i < integrator.roots_found().size(); ++i)
-    if (integrator.roots_found()[i] != 0)
-      {
-        Vector<double> state, rate;
-        integrator.interpolate(integrator.time(), state, rate);
-        std::ostringstream m;
-        m << "at t = " << integrator.time() << " s " << system.limit_report(i, state);
-        return m.str();
-      }
-  return "";
-}
-
 /// Multibody/Rigid reference: the scene of @p file run again with every body rigid, and the
 /// deviation of @p run's probe paths from its paths. A failure of that run (bad initial
 /// conditions, solver, end of track) goes to @p failure: the deviation then covers the rows it

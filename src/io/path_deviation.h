@@ -31,6 +31,8 @@ public:
   {}
   void record(double t, const dealii::Vector<double> &y);
   unsigned int n_rows() const { return time.size(); }
+  /// Position of probe @p probe at output row @p row [m].
+  const multibody::Vector3 &position(unsigned int probe, unsigned int row) const { return positions[probe][row]; }
 
 private:
   friend class PathDeviation;
