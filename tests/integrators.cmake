@@ -9,3 +9,10 @@ add_test(NAME cli_bench_writes_work_precision_table_and_plot
           --run $<TARGET_FILE:flextrack> ${CMAKE_SOURCE_DIR}/prm/pendulum.prm)
 set_tests_properties(cli_bench_writes_work_precision_table_and_plot PROPERTIES LABELS cli TIMEOUT 300
   FAIL_REGULAR_EXPRESSION "FAILED")
+
+# Numerical stability (issue 11 item 4, label stress, about 20 s): an undamped 1e5 Hz mode next to
+# slow rigid motion, IDA at maximum order 1 ... 5 and generalised-alpha at rho_inf 0 ... 1.
+add_test(NAME stress_stiff_mode_next_to_slow_motion
+  COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/stress/stiff_modes.py $<TARGET_FILE:flextrack>
+          ${CMAKE_CURRENT_BINARY_DIR}/stress_stiff_modes)
+set_tests_properties(stress_stiff_mode_next_to_slow_motion PROPERTIES LABELS stress TIMEOUT 900)
