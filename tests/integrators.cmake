@@ -16,3 +16,12 @@ add_test(NAME stress_stiff_mode_next_to_slow_motion
   COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/stress/stiff_modes.py $<TARGET_FILE:flextrack>
           ${CMAKE_CURRENT_BINARY_DIR}/stress_stiff_modes)
 set_tests_properties(stress_stiff_mode_next_to_slow_motion PROPERTIES LABELS stress TIMEOUT 900)
+
+# Issue 11 acceptance: `flextrack bench prm/bench/slewing_beam.prm` (label bench, about 75 s, most
+# of it the reference at rtol 1e-11): CSV with reference settings and error definition, PNG;
+# generalised-alpha's order between steps 1/32 s and 1/64 s (measured 1.99).
+add_test(NAME bench_slewing_beam_work_precision_of_both_integrators
+  COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/integrators/check_bench.py ${CMAKE_CURRENT_BINARY_DIR}/bench_slewing_beam_integrators
+          --run $<TARGET_FILE:flextrack> ${CMAKE_SOURCE_DIR}/prm/bench/slewing_beam.prm --order-rows 5 6)
+set_tests_properties(bench_slewing_beam_work_precision_of_both_integrators PROPERTIES LABELS bench TIMEOUT 1800
+  FAIL_REGULAR_EXPRESSION "FAILED")
