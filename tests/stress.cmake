@@ -1,0 +1,1 @@
+# Placeholder: filled by the stress tests of issue 11.
