@@ -6,6 +6,9 @@
 #include <io/scene_file.h>
 #include <multibody/simulation_settings.h>
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -74,6 +77,45 @@ std::string expand_includes(const std::string &text, const std::string &name, co
   return out.str();
 }
 
+/// A whole value that is one subnormal number (4.9e-324, 1e-320: nonzero, below 2.2e-308 in
+/// magnitude). deal.II's Patterns::Double accepts it, but ParameterHandler::get_double cannot
+/// convert it and throws, which the command line could only report as an internal error.
+bool is_subnormal_number(const std::string &value)
+{
+  if (value.empty()) return false;
+  char *end = nullptr;
+  errno = 0;
+  const double d = std::strtod(value.c_str(), &end);
+  if (end != value.c_str() + value.size()) return false;
+  return std::fpclassify(d) == FP_SUBNORMAL || (d == 0 && errno == ERANGE);
+}
+
+/// Refuses, naming the entry, a subnormal number as the value of any entry of @p prm (found by
+/// the fuzz driver, tests/fuzz: 'set Relative tolerance = 4.9e-324' ended in an internal error).
+void refuse_subnormal_numbers(const ParameterHandler &prm, const std::string &file)
+{
+  std::ostringstream printed;
+  prm.print_parameters(printed, ParameterHandler::ShortPRM);
+  std::istringstream lines(printed.str());
+  std::vector<std::string> path;
+  for (std::string line; std::getline(lines, line);)
+    {
+      const std::string t = base::trim(line);
+      if (t.rfind("subsection ", 0) == 0) path.push_back(t.substr(11));
+      else if (t == "end" && !path.empty()) path.pop_back();
+      else if (const auto eq = t.find(" = "); t.rfind("set ", 0) == 0 && eq != std::string::npos)
+        if (const std::string value = base::trim(t.substr(eq + 3)); is_subnormal_number(value))
+          {
+            std::string entry;
+            for (const auto &p : path) entry += p + "/";
+            throw InputError(entry + base::trim(t.substr(4, eq - 4)), // names are padded for alignment
+                             "'" + value + "' is a subnormal number (nonzero, below 2.2e-308 in magnitude); "
+                             "write 0 or a number of normal size",
+                             file);
+          }
+    }
+}
+
 /// Deepest nesting of braces and brackets outside strings.
 unsigned int json_depth(const std::string &text)
 {
@@ -121,6 +163,7 @@ void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const
     {
       throw InputError("", base::printable_excerpt(base::parse_error_text(e), 400), name);
     }
+  refuse_subnormal_numbers(prm, name);
 }
 
 SceneFile SceneFile::from_text(const std::string &text, const std::string &directory, const bool json)

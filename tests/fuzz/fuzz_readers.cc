@@ -23,7 +23,8 @@
 //     TARGET: scene, inp, msh, body; SEED: a file or a folder (its files with TARGET's endings)
 //   fuzz_readers --replay FOLDER [--directory DIR] [--timeout T] [--work DIR]
 //     every file of FOLDER, unmodified, with the reader its ending names (.prm/.json, .inp,
-//     .msh, .h5); fails if any crashes, hangs or reports. Scenes take relative file names from
+//     .msh, .h5); fails if any crashes, hangs, reports or ends in an internal error (each must
+//     be accepted or refused with a message). Scenes take relative file names from
 //     DIR (default FOLDER): give the folder of the seed a kept input came from.
 #include "hdf5_mutator.h"
 #include "isolated_run.h"
@@ -252,7 +253,9 @@ int replay(const Settings &s)
       report(f, o, tally);
     }
   print_summary("replay " + s.replay, tally, static_cast<long>(files.size()), 0);
-  return tally.failures ? 1 : 0;
+  // A kept input must now be accepted or refused with a message: an internal error fails too.
+  const auto internal = tally.counts.find(Outcome::Kind::internal_error);
+  return tally.failures || internal != tally.counts.end() ? 1 : 0;
 }
 } // namespace
 
