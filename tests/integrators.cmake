@@ -25,3 +25,14 @@ add_test(NAME bench_slewing_beam_work_precision_of_both_integrators
           --run $<TARGET_FILE:flextrack> ${CMAKE_SOURCE_DIR}/prm/bench/slewing_beam.prm --order-rows 5 6)
 set_tests_properties(bench_slewing_beam_work_precision_of_both_integrators PROPERTIES LABELS bench TIMEOUT 1800
   FAIL_REGULAR_EXPRESSION "FAILED")
+
+# Generalised-alpha finds the end of a track like IDA (tests/tracks.cmake): s(t) = 0.3 + t on an
+# arm of 0.6 pi / 2 m ends at t = 0.6424778 s (closed form); the stop time within 1e-6 s.
+add_test(NAME cli_run_generalized_alpha_stops_at_track_end
+  COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:flextrack>
+          -DSCENE=${CMAKE_CURRENT_SOURCE_DIR}/integrators/slider_on_arc_generalized_alpha.prm
+          -DOUT=${CMAKE_CURRENT_BINARY_DIR}/ga_end_of_track -DSTOP=0.642477
+          "-DREGEX=at t = 0.642478 s the contact slide_on_arm1 of joint 'slide' reached the end of its track"
+          -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_track_end.cmake
+  WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(cli_run_generalized_alpha_stops_at_track_end PROPERTIES LABELS cli)
