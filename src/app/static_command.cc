@@ -3,8 +3,8 @@
 //
 // Arms are meshed with a node at every point load, line-load end and report point (they are
 // added to the mesh as 'free' supports), so point loads are nodal and the reported values are
-// nodal values. Solids take node set forces (a uniform traction on the set's faces) and gravity
-// and report the mean displacement of node sets. The stiffness is assembled once without
+// nodal values. Solids take node set forces (a uniform traction on the set's faces), node set
+// moments and gravity, and report the mean displacement and best-fit rotation of node sets. The stiffness is assembled once without
 // supports and factorised once with them (reduction/static_solver.h, CHOLMOD); every load case
 // is then one forward/backward solve. Reported per case: the displacements at the report points,
 // the support reactions and their resultant against the resultant of the applied loads
@@ -17,6 +17,7 @@
 #include <base/input_error.h>
 #include <fem/curved_beam_model.h>
 #include <fem/load_case.h>
+#include <fem/solid_loads.h>
 #include <fem/solid_model.h>
 #include <io/arm_scene.h>
 #include <io/body_scene.h>
@@ -219,15 +220,19 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
     throw InputError("Solid/Supports", "the solid has no support: it moves freely under a static load; fix a node "
                                        "set or a plane");
   report.description = "solid: " + scene.solid.mesh->source + ", " + std::to_string(model->n_cells()) + " cells";
-  report.csv_header = "load_case,node_set,mean_ux_m,mean_uy_m,mean_uz_m";
+  report.csv_header = "load_case,node_set,mean_ux_m,mean_uy_m,mean_uz_m,theta_x_rad,theta_y_rad,theta_z_rad";
   std::vector<std::string> sets = scene.statics.node_sets;
   if (sets.empty())
     for (const auto &c : scene.load_cases)
-      for (const auto &f : c.node_set_forces)
-        if (std::find(sets.begin(), sets.end(), f.node_set) == sets.end()) sets.push_back(f.node_set);
+      {
+        for (const auto &f : c.node_set_forces)
+          if (std::find(sets.begin(), sets.end(), f.node_set) == sets.end()) sets.push_back(f.node_set);
+        for (const auto &m : c.node_set_moments)
+          if (std::find(sets.begin(), sets.end(), m.node_set) == sets.end()) sets.push_back(m.node_set);
+      }
   for (const auto &set : sets)
     {
-      report.labels.push_back("node set " + set + " (mean)");
+      report.labels.push_back("node set " + set + " (mean u, best-fit rotation)");
       report.csv_fields.push_back(set);
     }
   const auto solutions = solve_cases(*model, scene, report, timer);
@@ -237,7 +242,8 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
       for (const auto &set : sets)
         {
           const auto u = model->mean_displacement(set, solutions[i].u);
-          r.values.push_back({u[0], u[1], u[2]});
+          const auto theta = fem::mean_rotation(*model, scene.solid, set, solutions[i].u);
+          r.values.push_back({u[0], u[1], u[2], theta[0], theta[1], theta[2]});
         }
       // Isoparametric elements: the nodal load vector has the resultant of the loads it stands for.
       r.applied = model->nodal_resultant(model->load_vector(scene.load_cases[i]));

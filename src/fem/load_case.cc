@@ -173,6 +173,13 @@ void LoadCase::declare_parameters(ParameterHandler &prm, const std::vector<std::
                         "component at most 1e12 N in size. The force is spread as a uniform traction over the "
                         "boundary faces whose corners all belong to the set (consistent nodal weights), or in equal "
                         "shares over the set's nodes if it holds no whole face. At most 1000.");
+      prm.declare_entry("Node set moments", "", dealii::Patterns::Anything(),
+                        "Solid: moments on node sets, separated by ';': 'SET: Mx My Mz' [N m], global axes, about "
+                        "the centroid of the set's boundary faces, each component at most 1e12 N m in size. Carried "
+                        "by the traction t = lambda x r (r from the centroid), the smallest traction field with "
+                        "that moment and no resultant force (a torque gives shear tractions growing with the "
+                        "distance from the centroid, a bending moment a linear normal stress), consistent nodal "
+                        "weights; a set without a whole face gets nodal forces lambda x r_i. At most 1000.");
       prm.declare_entry("Gravity", "0, 0, 0", dealii::Patterns::Anything(),
                         "Acceleration of gravity 'gx, gy, gz' [m/s^2], each component at most 1e6 m/s^2 in size; "
                         "it loads the structure with its weight (density times volume).");
@@ -230,6 +237,10 @@ LoadCase LoadCase::parse_parameters(ParameterHandler &prm, const std::string &na
   const std::string set_entry = path + "Node set forces";
   for (const auto &[set, value] : items(prm, "Node set forces", set_entry, "SET: Fx Fy Fz"))
     c.node_set_forces.push_back({node_set(set, set_entry, solid), vector3(value, set_entry, "node set force", force_range)});
+  const std::string moment_entry = path + "Node set moments";
+  for (const auto &[set, value] : items(prm, "Node set moments", moment_entry, "SET: Mx My Mz"))
+    c.node_set_moments.push_back(
+      {node_set(set, moment_entry, solid), vector3(value, moment_entry, "node set moment", moment_range)});
   const auto g = base::parse_vector3(prm.get("Gravity"), path + "Gravity", "m/s^2");
   for (unsigned int d = 0; d < 3; ++d) c.gravity[d] = geometry::checked_number(g[d], path + "Gravity", gravity_range);
   prm.leave_subsection();

@@ -13,6 +13,7 @@
 //     set Line loads    = 0 1.5: 0 -10 0       # S0 S1 [m]: qx qy qz [N/m] on S0 <= s <= S1
 //     set Gravity       = 0, 0, -9.81          # [m/s^2], acts on the density of the material
 //     set Node set forces = XMAX: 0 0 -100     # solid: total force [N] on a node set
+//     set Node set moments = XMAX: 10 0 0      # solid: moment [N m] about the set's centroid
 //   end
 // In a body scene ('Model = body') a point load acts at 'ARM S' (an arm of the body and an arc
 // length on it) or at 'NAME' (an interface or output point of the body), a line load on
@@ -71,6 +72,17 @@ struct NodeSetForce
   dealii::Tensor<1, 3> force;
 };
 
+/// A moment [N m] (global axes) on a solid's node set, about the centroid of the set's boundary
+/// faces: carried by the traction t(r) = lambda x r (r from the centroid, J lambda = M with J the
+/// faces' area inertia tensor int (|r|^2 1 - r r^T) dA), the smallest traction field with that
+/// moment and no resultant force; consistent nodal weights. A set without a whole face: nodal
+/// forces lambda x r_i with J summed over the nodes.
+struct NodeSetMoment
+{
+  std::string node_set; ///< upper case
+  dealii::Tensor<1, 3> moment;
+};
+
 /// Force [N] and moment [N m] about the origin of a system of loads (or reactions).
 struct Resultant
 {
@@ -83,6 +95,7 @@ struct LoadCase
   std::vector<ArmPointLoad> point_forces, point_moments;
   std::vector<ArmLineLoad> line_loads;
   std::vector<NodeSetForce> node_set_forces;
+  std::vector<NodeSetMoment> node_set_moments;
   dealii::Tensor<1, 3> gravity; ///< [m/s^2]
 
   /// Declares "subsection Load case NAME" for each of @p names.

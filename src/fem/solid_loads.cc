@@ -1,12 +1,16 @@
-// Static loads of a solid (issue 12): node set forces spread by the consistent nodal weights of
-// the set's boundary faces, gravity as a body force, and the resultant of nodal forces. The
+// Static loads of a solid (issue 12): node set forces and moments spread by the consistent nodal
+// weights of the set's boundary faces, gravity as a body force, the resultant of nodal forces,
+// and the mean displacement and best-fit rotation of a node set. The
 // isoparametric elements represent rigid motions exactly, so the resultant of a nodal load
 // vector equals that of the distributed load it stands for, and reactions balance loads to
 // round-off.
+#include <fem/solid_loads.h>
 #include <fem/solid_model.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
+
+#include <deal.II/base/symmetric_tensor.h>
 
 #include <set>
 
@@ -32,6 +36,31 @@ std::vector<std::pair<typename Dofs::active_cell_iterator, unsigned int>> faces_
           if (all) faces.emplace_back(cell, f);
         }
   return faces;
+}
+/// sum over @p points (with weights) of |r|^2 1 - r r^T, r = x - c: the area (or point) inertia
+/// tensor about c.
+Tensor<2, 3> inertia_about(const std::vector<std::pair<Point<3>, double>> &points, const Point<3> &c)
+{
+  Tensor<2, 3> J;
+  for (const auto &[x, w] : points)
+    {
+      const Tensor<1, 3> r = x - c;
+      J += w * (r * r * unit_symmetric_tensor<3>() - outer_product(r, r));
+    }
+  return J;
+}
+
+/// Weighted centroid of @p points.
+Point<3> centroid(const std::vector<std::pair<Point<3>, double>> &points)
+{
+  Point<3> c;
+  double total = 0;
+  for (const auto &[x, w] : points)
+    {
+      c += w * x;
+      total += w;
+    }
+  return c / total;
 }
 } // namespace
 
@@ -73,6 +102,54 @@ Vector<double> SolidModel::load_vector(const LoadCase &load_case) const
             {
               const unsigned int c = fe->system_to_component_index(i).first;
               for (unsigned int q = 0; q < rule.size(); ++q) f[local[i]] += traction[c] * values.shape_value(i, q) * values.JxW(q);
+            }
+        }
+    }
+  for (const auto &load : load_case.node_set_moments)
+    {
+      const auto &nodes = body.mesh->node_sets.at(load.node_set);
+      const auto faces = faces_of(dofs, nodes);
+      if (faces.empty())
+        {
+          // No whole face: nodal forces lambda x r_i, J summed over the nodes.
+          const auto points = support_points();
+          std::vector<std::vector<types::global_dof_index>> at;
+          std::vector<std::pair<Point<3>, double>> x;
+          for (const auto &node : nodes)
+            if (auto d = node_dofs(node); !d.empty())
+              {
+                at.push_back(d);
+                x.emplace_back(points[d[0]], 1.0);
+              }
+          const Point<3> c = centroid(x);
+          const Tensor<1, 3> lambda = invert(inertia_about(x, c)) * load.moment;
+          for (std::size_t k = 0; k < at.size(); ++k)
+            {
+              const Tensor<1, 3> F = cross_product_3d(lambda, x[k].first - c);
+              for (unsigned int d = 0; d < 3; ++d) f[at[k][d]] += F[d];
+            }
+          continue;
+        }
+      // t(r) = lambda x r over the faces, J lambda = M: f_i = int_faces N_i t dA.
+      const QGauss<2> rule(body.gauss_points);
+      FEFaceValues<3> values(*map, *fe, rule, update_values | update_JxW_values | update_quadrature_points);
+      std::vector<std::pair<Point<3>, double>> area_points;
+      for (const auto &[cell, face] : faces)
+        {
+          values.reinit(cell, face);
+          for (unsigned int q = 0; q < rule.size(); ++q) area_points.emplace_back(values.quadrature_point(q), values.JxW(q));
+        }
+      const Point<3> c = centroid(area_points);
+      const Tensor<1, 3> lambda = invert(inertia_about(area_points, c)) * load.moment;
+      for (const auto &[cell, face] : faces)
+        {
+          values.reinit(cell, face);
+          cell->get_dof_indices(local);
+          for (unsigned int q = 0; q < rule.size(); ++q)
+            {
+              const Tensor<1, 3> t = cross_product_3d(lambda, values.quadrature_point(q) - c);
+              for (unsigned int i = 0; i < n; ++i)
+                f[local[i]] += t[fe->system_to_component_index(i).first] * values.shape_value(i, q) * values.JxW(q);
             }
         }
     }
@@ -127,5 +204,24 @@ Tensor<1, 3> SolidModel::mean_displacement(const std::string &set, const Vector<
         ++count;
       }
   return count ? sum / count : sum;
+}
+
+Tensor<1, 3> mean_rotation(const SolidModel &model, const Solid &solid, const std::string &set, const Vector<double> &u)
+{
+  const auto points = model.support_points();
+  std::vector<std::pair<Point<3>, double>> x;
+  std::vector<Tensor<1, 3>> v;
+  for (const auto &node : solid.mesh->node_sets.at(set))
+    if (const auto d = model.node_dofs(node); !d.empty())
+      {
+        x.emplace_back(points[d[0]], 1.0);
+        v.push_back(Tensor<1, 3>({u[d[0]], u[d[1]], u[d[2]]}));
+      }
+  if (x.size() < 3) return Tensor<1, 3>();
+  const Point<3> c = centroid(x);
+  Tensor<1, 3> mean, moment;
+  for (const auto &w : v) mean += w / static_cast<double>(v.size());
+  for (std::size_t k = 0; k < x.size(); ++k) moment += cross_product_3d(x[k].first - c, v[k] - mean);
+  return invert(inertia_about(x, c)) * moment;
 }
 } // namespace flextrack::fem

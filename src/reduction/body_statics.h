@@ -12,7 +12,7 @@
 // Loads (fem/load_case.h, places 'ARM S' or an interface / output point): point forces and
 // moments on arms are consistent nodal loads (between nodes too, like a sliding contact);
 // on interfaces and output points they act on the point's six dofs; line loads on arms; node set
-// forces on the body's solid; gravity is M_full g (the consistent mass of every part and the
+// forces and moments on the body's solid; gravity is M_full g (the consistent mass of every part and the
 // point masses, times the rigid translation g).
 #pragma once
 

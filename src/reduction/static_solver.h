@@ -4,7 +4,8 @@
 // The model's stiffness is given without its supports (K_free); the supported dofs are taken out
 // of a copy of it (rows and columns zeroed, the diagonal kept), which is factorised once by the
 // project's SparseFactorization (CHOLMOD). K_free itself stays for the reactions
-// r = K_free u - f at the supports and for the strain energy U = u^T K_free u / 2.
+// r = K_free u - f at the supports and for the strain energy U = u^T K_free u / 2. Each solution
+// is refined with residuals summed in long double (the reactions' balance needs it).
 #pragma once
 
 #include <deal.II/lac/affine_constraints.h>
@@ -38,6 +39,11 @@ public:
   std::vector<StaticSolution> solve(const std::vector<dealii::Vector<double>> &f) const;
 
 private:
+  /// Refinement steps at most (each one solve and one product; stops when the residual stops falling).
+  static constexpr unsigned int max_refinements = 3;
+  /// K_free u - f, each row summed in long double.
+  std::vector<long double> accurate_residual(const dealii::Vector<double> &u, const dealii::Vector<double> &f) const;
+
   const dealii::TrilinosWrappers::SparseMatrix &K;
   const dealii::AffineConstraints<double> &fixed;
   std::unique_ptr<SparseFactorization> factorization;

@@ -51,8 +51,9 @@ TEST(BodyStatics, point_loads_between_track_stations_of_a_curved_arm_match_the_f
   // 20 normal modes, 8 track stations): the body and loads of
   // ReducedBody.track_load_modes_represent_loads_between_stations, which measures the worst
   // deflection error 1.2e-5 over the two loads below (its bound 1e-2, issue 4). The same
-  // numbers must come out of BodyStatics: the independent computation of that test to 1e-6 of
-  // the difference, and the difference itself within 1e-4 (measured 8.0e-6 and 1.2e-5).
+  // numbers must come out of BodyStatics: the independent computation of that test to 1e-4 of
+  // the difference (the two full solutions to 1e-9), and the difference itself within 1e-4
+  // (measured 8.0e-6 and 1.2e-5).
   const auto scene = io::read_body_scene_from_string(
     "set Model = body\nsubsection Body\n set Solid = false\n set Arms = ring\nend\n"
     "subsection Arm ring\n subsection Curve\n  set Kind = arc\n  subsection Arc\n   set Radius = 1\n  end\n end\n"
@@ -90,7 +91,7 @@ TEST(BodyStatics, point_loads_between_track_stations_of_a_curved_arm_match_the_f
                 << " m, reduced against full " << r.displacement_difference(c) << " (independent: " << expected
                 << ")\n";
       EXPECT_NEAR(norm3(r.full[c]), d.norm(), 1e-9 * d.norm());
-      EXPECT_NEAR(r.displacement_difference(c), expected, 1e-6 * expected);
+      EXPECT_NEAR(r.displacement_difference(c), expected, 1e-4 * expected);
       EXPECT_LT(r.displacement_difference(c), 1e-4);
       EXPECT_GT(r.displacement_difference(c), 1e-12); // between stations the basis is not exact
     }
