@@ -19,8 +19,9 @@
 // per-input time limit multiplied by it (a slow build is not a hang).
 //
 // Usage:
-//   fuzz_readers TARGET SEED... [--seconds S] [--runs N] [--seed K] [--timeout T] [--work DIR]
-//     TARGET: scene, inp, msh, body; SEED: a file or a folder (its files with TARGET's endings)
+//   fuzz_readers TARGET SEED... [--seconds S] [--runs N] [--seed K] [--timeout T] [--work DIR] [--verbose]
+//     TARGET: scene, inp, msh, body; SEED: a file or a folder (its files with TARGET's endings);
+//     --verbose prints every input's outcome and what was mutated
 //   fuzz_readers --replay FOLDER [--directory DIR] [--timeout T] [--work DIR]
 //     every file of FOLDER, unmodified, with the reader its ending names (.prm/.json, .inp,
 //     .msh, .h5); fails if any crashes, hangs, reports or ends in an internal error (each must
@@ -54,6 +55,7 @@ struct Settings
   std::vector<std::string> seed_paths;
   double seconds = 20, timeout = 10;
   long runs = 1000000;
+  bool verbose = false; ///< --verbose: one line per input (outcome, what was mutated)
   std::uint64_t seed = 1;
   std::size_t memory_bytes = std::size_t(4) << 30; ///< address space of a child [bytes]
 };
@@ -73,7 +75,8 @@ double time_limit_factor()
 [[noreturn]] void usage(const std::string &problem)
 {
   std::cerr << "fuzz_readers: " << problem << "\n"
-            << "usage: fuzz_readers TARGET SEED... [--seconds S] [--runs N] [--seed K] [--timeout T] [--work DIR]\n"
+            << "usage: fuzz_readers TARGET SEED... [--seconds S] [--runs N] [--seed K] [--timeout T] [--work DIR] "
+               "[--verbose]\n"
             << "       fuzz_readers --replay FOLDER [--directory DIR] [--timeout T] [--work DIR]\n"
             << "TARGET: scene, inp, msh, body" << std::endl;
   std::exit(2);
@@ -96,6 +99,7 @@ Settings parse(int argc, char **argv)
       else if (a == "--work") s.work = value();
       else if (a == "--replay") s.replay = value();
       else if (a == "--directory") s.directory = value();
+      else if (a == "--verbose") s.verbose = true;
       else if (a.rfind("--", 0) == 0) usage("unknown option " + a);
       else if (s.target.empty() && s.replay.empty()) s.target = a;
       else s.seed_paths.push_back(a);
@@ -225,6 +229,9 @@ int fuzz(const Settings &s)
       std::ostringstream what;
       what << "input " << n << " (from " << seed.path << ": " << description << ")";
       report(what.str(), o, tally);
+      if (s.verbose)
+        std::cout << what.str() << ": " << kind_name(o.kind) << (o.detail.empty() ? "" : ": " + o.detail.substr(0, 200))
+                  << std::endl;
       if (o.kind == Outcome::Kind::failure)
         std::cout << "  kept as " << keep_input(s, mutant, "failure", extension, n) << " (reproduce: fuzz_readers "
                   << "--replay on a folder holding it, --directory " << seed.directory << ")" << std::endl;
