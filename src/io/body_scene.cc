@@ -1,5 +1,6 @@
 #include <io/body_scene.h>
 #include <base/input_error.h>
+#include <fem/load_case.h>
 
 #include <filesystem>
 #include <fstream>
@@ -39,7 +40,10 @@ std::string hash_inputs(const ParameterHandler &prm, const std::string &director
       if (t.rfind("subsection ", 0) == 0)
         {
           ++depth;
-          if (skip_depth == 0 && depth == 1 && t == "subsection Output") skip_depth = depth;
+          // Output settings and load cases do not change the reduced body.
+          if (skip_depth == 0 && depth == 1 &&
+              (t == "subsection Output" || t == "subsection Static" || t.rfind("subsection Load case ", 0) == 0))
+            skip_depth = depth;
         }
       else if (t == "end")
         {
@@ -84,6 +88,10 @@ BodyScene read_body_scene(const SceneFile &file)
       scene.file = file.name;
       scene.parameters = std::make_shared<ParameterHandler>();
       declare_body_scene(*scene.parameters, names);
+      // Load cases are read by 'flextrack static' (app/static_command.cc); declared here too so
+      // that 'reduce' and 'run' accept a body scene that has them (they stay out of the hash).
+      fem::StaticSettings::declare_parameters(*scene.parameters);
+      fem::LoadCase::declare_parameters(*scene.parameters, fem::StaticSettings::parse_load_case_list(*file.lists));
       file.parse(*scene.parameters, false);
       auto &prm = *scene.parameters;
       scene.body = fem::Body::parse_parameters(prm, file.directory);
