@@ -15,7 +15,9 @@ function(flextrack_bench_scene_test name scene)
     COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/bench_scenes/run_scene.py $<TARGET_FILE:flextrack>
             ${scene} ${BENCH_SCENES_OUT}/${name} ${ARGN}
     WORKING_DIRECTORY ${BENCH_SCENES_OUT}) # reduced-body caches go to ./output/
-  set_tests_properties(cli_bench_scene_${name} PROPERTIES LABELS cli TIMEOUT 600)
+  # One at a time: they share the reduced-body cache in ./output/, and two runs must not reduce
+  # the same body at once.
+  set_tests_properties(cli_bench_scene_${name} PROPERTIES LABELS cli TIMEOUT 600 RESOURCE_LOCK bench_scenes_cache)
 endfunction()
 
 # Short runs: end time [s] (a few steps of the scene's motion) and generalised-alpha step [s].
