@@ -1,4 +1,4 @@
-# The benchmark scenes of prm/bench (issue 11 item 3; doc/bench_scenes.md), label cli.
+# The benchmark scenes of prm/bench (issue 11 item 3; doc/benchmarks.md, "Benchmark scenes"), label cli.
 #  1. cli_bench_scene_NAME_runs: every multibody scene of prm/bench (the files with 'Model = body'
 #     are its flexible bodies) runs briefly with its own integrator (IDA) and with generalised-alpha at
 #     a fixed step, through wrapper files that shorten 'End time' (there is no command-line
