@@ -90,13 +90,16 @@ std::unique_ptr<FixedMarker> FixedMarker::at_global_pose(const Body &body, std::
   const auto *floating = dynamic_cast<const FloatingBody *>(&body);
   const reduction::ReducedBody *reduced = floating ? floating->source() : nullptr;
   if (!reduced) throw InputError("Interface", "body '" + body.name() + "' is not flexible; it has no interface '" + interface + "'");
-  // A flexible body made rigid keeps its interfaces' positions, without their modes.
-  for (const auto &i : reduced->interfaces)
-    if (i.name == interface && body.n_modes() == 0) return std::make_unique<FixedMarker>(body, std::move(name), i.position, frame);
-  for (const auto &i : reduced->interfaces)
-    if (i.name == interface) return std::make_unique<FixedMarker>(body, std::move(name), i.position, frame, i.modes);
+  // Interfaces and output points alike carry 6 x n mode shapes (a probe reads a tip that is an
+  // output point). A flexible body made rigid keeps their positions, without their modes.
+  for (const auto *points : {&reduced->interfaces, &reduced->output_points})
+    for (const auto &i : *points)
+      if (i.name == interface)
+        return body.n_modes() == 0 ? std::make_unique<FixedMarker>(body, std::move(name), i.position, frame)
+                                   : std::make_unique<FixedMarker>(body, std::move(name), i.position, frame, i.modes);
   std::string allowed;
-  for (const auto &i : reduced->interfaces) allowed += (allowed.empty() ? "" : ", ") + i.name;
-  throw InputError("Interface", "body '" + body.name() + "' has no interface '" + interface + "'; allowed: " + allowed);
+  for (const auto *points : {&reduced->interfaces, &reduced->output_points})
+    for (const auto &i : *points) allowed += (allowed.empty() ? "" : ", ") + i.name;
+  throw InputError("Interface", "body '" + body.name() + "' has no interface or output point '" + interface + "'; allowed: " + allowed);
 }
 } // namespace flextrack::multibody

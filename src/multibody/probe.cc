@@ -62,8 +62,8 @@ void Probe::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Position", "0, 0, 0", Patterns::Anything(),
                     "The probed point, global, at the initial configuration [m] (ignored at an interface).");
   prm.declare_entry("Interface", "", Patterns::Anything(),
-                    "Interface of a flexible body the probe sits on (it moves with the interface's mode "
-                    "shapes); empty: the point 'Position' fixed in the body frame [-].");
+                    "Interface or output point of a flexible body the probe sits on (it moves with that "
+                    "point's mode shapes); empty: the point 'Position' fixed in the body frame [-].");
   prm.declare_entry("Frame", "global", Patterns::Anything(),
                     "Axes of the output: 'global', or the name of a body: position [m] and velocity [m/s] "
                     "relative to that body's floating frame, in its axes [-].");

@@ -496,11 +496,42 @@ TEST(MultibodySpin, generalized_alpha_spin_up_beam_matches_kane_and_converges_at
     {
       const double order = std::log(errors[i - 1] / errors[i]) / std::log(steps[i - 1] / steps[i]);
       std::cout << "  observed order between steps " << steps[i - 1] << " and " << steps[i] << " s: " << order << "\n";
-      if (i + 1 == errors.size()) EXPECT_NEAR(order, 2.0, 0.25); // second order (Arnold & Bruls 2007)
+      if (i + 1 == errors.size())
+        {
+          EXPECT_NEAR(order, 2.0, 0.25); // second order (Arnold & Bruls 2007)
+        }
     }
   double t_min = 0, v_min = 0;
   find_minimum(finest, t_min, v_min);
   std::cout << "  finest run: minimum " << v_min << " m at t = " << t_min << " s (reference -0.57437 m at 6.762 s)\n";
   EXPECT_NEAR(v_min, -0.57437, 0.02 * 0.57437); // Kane et al. (1987), REFERENCES.md 4: 2 %
   EXPECT_NEAR(t_min, 6.762, 0.05);              // Kane et al. (1987), REFERENCES.md 4: 0.05 s
+}
+
+TEST(MultibodySpin, marker_on_an_output_point_moves_with_its_mode_shapes)
+{
+  // A probe or joint may sit on an output point of a reduced body, like on an interface (issue 9:
+  // "an interface or output point of a flexible body, which moves with its 6 x n mode shapes").
+  // Reference: r = R + A (x_tip + Phi_u eta) from the body's own pose and the output point's
+  // stored position and mode shapes; tolerance 1e-12 m.
+  const auto beam = spin_up_beam();
+  System s;
+  build_spinning_beam(s, beam, true, "0", 0);
+  Vector<double> y;
+  s.initial_guess(y);
+  const unsigned int q0 = s.q_offset(beam_body), n = beam->n_modes();
+  for (unsigned int k = 0; k < n; ++k) y[q0 + 7 + k] = 1e-3 * (k + 1);
+  const auto &tip = beam->output_points.at(0);
+  const auto marker = FixedMarker::at_global_pose(s.body(beam_body), "tip", Vector3(),
+                                                  dealii::unit_symmetric_tensor<3>(), s.q_of(beam_body, y), tip.name);
+  MarkerKinematics k;
+  marker->evaluate(s.q_of(beam_body, y), nullptr, k);
+  const double *q = s.q_of(beam_body, y);
+  const Matrix3 A = geometry::rotation_matrix({{q[3], q[4], q[5], q[6]}});
+  Vector3 local({tip.position[0], tip.position[1], tip.position[2]});
+  for (unsigned int a = 0; a < 3; ++a)
+    for (unsigned int m = 0; m < n; ++m) local[a] += tip.modes(a, m) * q[7 + m];
+  const Vector3 expected = Vector3({q[0], q[1], q[2]}) + A * local;
+  EXPECT_LT((k.position - expected).norm(), 1e-12);
+  EXPECT_GT((k.position - (Vector3({q[0], q[1], q[2]}) + A * Vector3({tip.position[0], tip.position[1], tip.position[2]}))).norm(), 1e-4);
 }
