@@ -1,4 +1,5 @@
 #include <base/input_error.h>
+#include <base/memory.h>
 #include <base/text.h>
 #include <reduction/modal_solver.h>
 #include <reduction/sparse_factorization.h>
@@ -155,6 +156,7 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
       else
         break;
     }
+  base::probe_memory("Lanczos done");
   if (info == 1)
     throw SolverError("the Lanczos iteration did not converge in " + std::to_string(settings.max_iterations) +
                       " restarts; raise 'Modal analysis/Maximum iterations' or 'Tolerance', or move 'Shift' "

@@ -1,3 +1,4 @@
+#include <base/memory.h>
 #include <reduction/modal_solver.h>
 #include <reduction/sparse_factorization.h>
 
@@ -9,6 +10,10 @@
 #include <Teuchos_ParameterList.hpp>
 #include <cholmod.h>
 
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
 namespace flextrack::reduction
 {
 struct SparseFactorization::Cholmod
@@ -16,6 +21,9 @@ struct SparseFactorization::Cholmod
   cholmod_common common;
   cholmod_factor *factor = nullptr;
   cholmod_dense *rhs = nullptr;
+  /// A large (supernodal) factor is of P A P^T, permuted here: row p of it is row order[p] of
+  /// A. Empty: CHOLMOD permutes a small (simplicial) factor itself.
+  std::vector<int> order;
   Cholmod() { cholmod_start(&common); }
   ~Cholmod()
   {
@@ -37,64 +45,137 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
   factorize_with_amesos(method == "klu" ? "klu" : "mumps");
 }
 
+namespace
+{
+/// Calls @p use(i, j, a_ij) for every stored entry of the upper triangle (j >= i) of
+/// A = K - sigma M, by global indices, in no particular order within a row. M's pattern lies in
+/// K's (one sparsity pattern); M's row is scattered into @p scratch (n zeros on entry and exit).
+template <typename Use>
+void for_each_upper_entry(const Epetra_CrsMatrix &k, const Epetra_CrsMatrix &m, const double sigma,
+                          std::vector<double> &scratch, Use &&use)
+{
+  for (int r = 0; r < k.NumMyRows(); ++r)
+    {
+      const int i = k.RowMap().GID(r);
+      int count = 0;
+      double *values = nullptr;
+      int *columns = nullptr;
+      if (sigma != 0)
+        {
+          m.ExtractMyRowView(m.RowMap().LID(i), count, values, columns);
+          for (int c = 0; c < count; ++c) scratch[m.ColMap().GID(columns[c])] = values[c];
+        }
+      const int n_m = count;
+      const int *m_columns = columns;
+      k.ExtractMyRowView(r, count, values, columns);
+      for (int c = 0; c < count; ++c)
+        if (const int j = k.ColMap().GID(columns[c]); j >= i) use(i, j, values[c] - sigma * scratch[j]);
+      for (int c = 0; c < n_m; ++c) scratch[m.ColMap().GID(m_columns[c])] = 0;
+    }
+}
+/// Sorts the rows within each column of @p A (CHOLMOD's sorted input); a column holds tens of
+/// entries.
+void sort_columns(cholmod_sparse *A)
+{
+  auto *start = static_cast<int *>(A->p), *rows = static_cast<int *>(A->i);
+  auto *values = static_cast<double *>(A->x);
+  std::vector<std::pair<int, double>> column;
+  for (std::size_t j = 0; j < A->ncol; ++j)
+    {
+      column.clear();
+      for (int e = start[j]; e < start[j + 1]; ++e) column.emplace_back(rows[e], values[e]);
+      std::sort(column.begin(), column.end());
+      for (std::size_t e = 0; e < column.size(); ++e)
+        {
+          rows[start[j] + e] = column[e].first;
+          values[start[j] + e] = column[e].second;
+        }
+    }
+  A->sorted = true;
+}
+} // namespace
+
 bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
                                                  const dealii::TrilinosWrappers::SparseMatrix &M, const double sigma)
 {
-  // The lower triangle of A in compressed columns = the upper triangle of its rows, read
-  // straight from Epetra (deal.II's row iterators copy a row per step), two passes: count, fill.
+  // Memory is the limit of large eigen solves (the factor is most of it), so CHOLMOD gets A
+  // once: first the fill-reducing ordering P from A's pattern alone, then A already permuted,
+  // P A P^T, as the lower triangle in compressed columns. CHOLMOD factorises such a matrix in
+  // its natural order in place; handed an unpermuted A it would make a permuted copy for the
+  // whole factorisation (and two transposes on the way).
   cholmod = std::make_unique<Cholmod>();
+  auto &common = cholmod->common;
   const Epetra_CrsMatrix &k = K.trilinos_matrix(), &m = M.trilinos_matrix();
   const int n = k.NumMyRows();
-  auto upper_row = [&](const Epetra_CrsMatrix &a, const int r, std::vector<std::pair<int, double>> &row) {
-    int count = 0;
-    double *values = nullptr;
-    int *columns = nullptr;
-    a.ExtractMyRowView(r, count, values, columns);
-    const int i = a.RowMap().GID(r);
-    row.clear();
-    for (int c = 0; c < count; ++c)
-      if (const int j = a.ColMap().GID(columns[c]); j >= i) row.emplace_back(j, values[c]);
-    std::sort(row.begin(), row.end());
+  std::vector<double> scratch(n, 0.0);
+  std::vector<int> count(n + 1, 0);
+  // Column j of the lower triangle of A (or of P A P^T) = the upper part of row j, in the new
+  // numbering: entry (i, j) goes to column min(new i, new j), row max(...). Two passes: count, fill.
+  auto compressed_columns = [&](const std::vector<int> &new_index, const int xtype) {
+    std::fill(count.begin(), count.end(), 0);
+    std::size_t nnz = 0;
+    for_each_upper_entry(k, m, 0.0, scratch, [&](int i, int j, double) {
+      ++count[std::min(new_index[i], new_index[j])];
+      ++nnz;
+    });
+    cholmod_sparse *A = cholmod_allocate_sparse(n, n, nnz, false, true, -1, xtype, &common);
+    auto *start = static_cast<int *>(A->p), *rows = static_cast<int *>(A->i);
+    auto *values = static_cast<double *>(A->x);
+    start[0] = 0;
+    for (int j = 0; j < n; ++j) start[j + 1] = start[j] + count[j];
+    std::copy(start, start + n, count.begin()); // next free place in each column
+    for_each_upper_entry(k, m, values ? sigma : 0.0, scratch, [&](int i, int j, double a) {
+      const int a_i = new_index[i], a_j = new_index[j];
+      const int place = count[std::min(a_i, a_j)]++;
+      rows[place] = std::max(a_i, a_j);
+      if (values) values[place] = a;
+    });
+    return A;
   };
-  std::vector<std::pair<int, double>> row_k, row_m;
-  std::size_t nnz = 0;
-  for (int r = 0; r < n; ++r)
+
+  std::vector<int> identity(n);
+  std::iota(identity.begin(), identity.end(), 0);
+  cholmod_sparse *pattern = compressed_columns(identity, CHOLMOD_PATTERN);
+  // Sorted columns: the orderings break ties by position, and should see A as before (Epetra's
+  // local column order need not be the global one).
+  cholmod_sort(pattern, &common);
+  cholmod_factor *symbolic = cholmod_analyze(pattern, &common); // AMD or METIS, postordered
+  cholmod_free_sparse(&pattern, &common);
+  if (!symbolic) throw SolverError("CHOLMOD could not order the matrix (out of memory?)");
+  cholmod_sparse *A = nullptr;
+  if (symbolic->is_super)
     {
-      upper_row(k, r, row_k);
-      nnz += row_k.size();
+      cholmod->order.assign(static_cast<int *>(symbolic->Perm), static_cast<int *>(symbolic->Perm) + n);
+      cholmod_free_factor(&symbolic, &common);
+      base::release_free_heap(); // the ordering's workspace, before A and the factor
+      std::vector<int> new_index(n);
+      for (int p = 0; p < n; ++p) new_index[cholmod->order[p]] = p;
+      A = compressed_columns(new_index, CHOLMOD_REAL);
+      sort_columns(A);
+      common.nmethods = 1;
+      common.method[0].ordering = CHOLMOD_NATURAL;
+      common.postorder = false; // the order above is postordered already
+      cholmod->factor = cholmod_analyze(A, &common);
     }
-  cholmod_sparse *L = cholmod_allocate_sparse(n, n, nnz, 1, 1, -1, CHOLMOD_REAL, &cholmod->common);
-  auto *p = static_cast<int *>(L->p), *rows = static_cast<int *>(L->i);
-  auto *x = static_cast<double *>(L->x);
-  std::size_t next = 0;
-  for (int r = 0; r < n; ++r)
+  else
     {
-      const int i = k.RowMap().GID(r);
-      p[i] = next;
-      upper_row(k, r, row_k);
-      upper_row(m, m.RowMap().LID(i), row_m);
-      // M's pattern is K's (one sparsity pattern): merge the sorted rows.
-      std::size_t c = 0;
-      for (const auto &[j, value] : row_k)
-        {
-          double a = value;
-          while (c < row_m.size() && row_m[c].first < j) ++c;
-          if (c < row_m.size() && row_m[c].first == j) a -= sigma * row_m[c].second;
-          rows[next] = j;
-          x[next++] = a;
-        }
+      // A small factor (simplicial LDL^T): memory does not matter, and CHOLMOD permutes A
+      // itself, as it always has here, which keeps these results as they were to the last bit
+      // (the row-by-row factorisation sums in another order on a pre-permuted matrix).
+      A = compressed_columns(identity, CHOLMOD_REAL);
+      sort_columns(A);
+      cholmod->factor = symbolic;
     }
-  p[n] = next;
-  cholmod->factor = cholmod_analyze(L, &cholmod->common);
-  cholmod_factorize(L, cholmod->factor, &cholmod->common);
-  const bool positive_definite = cholmod->common.status == CHOLMOD_OK;
-  cholmod_free_sparse(&L, &cholmod->common);
+  if (cholmod->factor) cholmod_factorize(A, cholmod->factor, &common);
+  base::probe_memory("Cholesky factor of A made");
+  const bool positive_definite = cholmod->factor && common.status == CHOLMOD_OK;
+  cholmod_free_sparse(&A, &common);
   if (!positive_definite)
     {
       cholmod.reset();
       return false;
     }
-  cholmod->rhs = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &cholmod->common);
+  cholmod->rhs = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
   return true;
 }
 
@@ -125,11 +206,7 @@ void SparseFactorization::solve(const double *b, double *x) const
 {
   if (cholmod)
     {
-      const std::size_t n = cholmod->rhs->nrow;
-      std::copy(b, b + n, static_cast<double *>(cholmod->rhs->x));
-      cholmod_dense *solution = cholmod_solve(CHOLMOD_A, cholmod->factor, cholmod->rhs, &cholmod->common);
-      std::copy(static_cast<double *>(solution->x), static_cast<double *>(solution->x) + n, x);
-      cholmod_free_dense(&solution, &cholmod->common);
+      solve_many(b, x, 1);
       return;
     }
   const int n = rhs->MyLength();
@@ -146,12 +223,19 @@ void SparseFactorization::solve_many(const double *B, double *X, const unsigned 
       for (unsigned int j = 0; j < k; ++j) solve(B + j * n, X + j * n);
       return;
     }
+  // (P A P^T)^{-1} applied to P b, then permuted back (P = I where CHOLMOD permutes itself).
   const std::size_t n = cholmod->rhs->nrow;
-  cholmod_dense *many = cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &cholmod->common);
-  std::copy(B, B + n * k, static_cast<double *>(many->x));
+  const std::vector<int> &order = cholmod->order;
+  cholmod_dense *many = k == 1 ? cholmod->rhs : cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &cholmod->common);
+  auto *permuted = static_cast<double *>(many->x);
+  auto row = [&](const std::size_t p) -> std::size_t { return order.empty() ? p : order[p]; };
+  for (std::size_t c = 0; c < k; ++c)
+    for (std::size_t p = 0; p < n; ++p) permuted[c * n + p] = B[c * n + row(p)];
   cholmod_dense *solution = cholmod_solve(CHOLMOD_A, cholmod->factor, many, &cholmod->common);
-  std::copy(static_cast<double *>(solution->x), static_cast<double *>(solution->x) + n * k, X);
+  const auto *y = static_cast<const double *>(solution->x);
+  for (std::size_t c = 0; c < k; ++c)
+    for (std::size_t p = 0; p < n; ++p) X[c * n + row(p)] = y[c * n + p];
   cholmod_free_dense(&solution, &cholmod->common);
-  cholmod_free_dense(&many, &cholmod->common);
+  if (many != cholmod->rhs) cholmod_free_dense(&many, &cholmod->common);
 }
 } // namespace flextrack::reduction
