@@ -38,7 +38,7 @@ RUNS = 30                      # in Release; divided by FLEXTRACK_TIME_LIMIT_FAC
 SEED0 = 1000
 ROWS = 20                      # output rows per run
 MAX_STEPS = 5000               # 'Maximum steps'
-RUN_TIME_LIMIT = 60.0          # s per run (times FLEXTRACK_TIME_LIMIT_FACTOR): beyond it, a hang
+RUN_TIME_LIMIT = 120.0         # s per run (times FLEXTRACK_TIME_LIMIT_FACTOR): beyond it, a hang
 
 
 def log_uniform(rng, low, high):
