@@ -9,7 +9,8 @@ random.Random(1000 + k) (Python's Mersenne Twister: the same numbers on every ma
 inertias, lengths, Young's moduli and densities of the flexible bodies (through a wrapper of the
 body scene, reduced anew), drive speeds, initial angles and velocities, and the integrator (IDA
 with its order cap or generalised-alpha with rho_inf, fixed or adaptive step) with tolerances from
-1e-10 (IDA at order 1 or 2: 1e-5, 1e-7) to 1e-2, all within the ranges the entries allow. Every scene is run briefly (its 'End
+1e-10 (IDA at order 1 or 2: 1e-5, 1e-7) to 1e-2, Newton iterations 2-100, multiplier and velocity
+tolerances, all within the ranges the entries allow. Every scene is run briefly (its 'End
 time' below), with 20 output rows and at most 5000 steps per output interval (IDA) or per run
 (generalised-alpha), so that no run is long.
 Asserted for every run (the contract of `flextrack run`, README.md and doc/multibody.md):
@@ -181,8 +182,24 @@ def integrator(rng, end, p):
         p.set(section, "Step", repr(step))
         p.set(section, "Adaptive step", "true" if adaptive else "false")
         p.text.append(f"alpha rho {rho:.2f} {'adaptive from' if adaptive else 'step'} {step:.1e} s, rtol {rtol:.1e}")
+    atol = rtol * log_uniform(rng, 1e-3, 1)
     p.set(section, "Relative tolerance", repr(rtol))
-    p.set(section, "Absolute tolerance", repr(rtol * log_uniform(rng, 1e-3, 1)))
+    p.set(section, "Absolute tolerance", repr(atol))
+    # Drawn last, so that the draws above stay what they were before these were added. Not 1
+    # Newton iteration (allowed): generalised-alpha judges convergence by the size of a correction,
+    # so with one iteration the predictor itself must be within the tolerance (all 4 such runs of a
+    # trial failed, 3 at t = 0 with residuals down to 2.5e-16); IDA with one took over 120 s on
+    # seed 1017 (doc/stress.md, findings).
+    newton = rng.choice((2, 4, 10, 100))
+    multipliers = log_uniform(rng, 1e-6, 1)
+    p.set(section, "Maximum Newton iterations", str(newton))
+    p.set(section, "Multiplier tolerance", repr(multipliers))
+    extra = [f"Newton <= {newton}", f"lambda tol {multipliers:.0e}"]
+    if rng.random() < 0.5:
+        velocity = atol * log_uniform(rng, 1, 1e4)
+        p.set(section, "Velocity tolerance", repr(velocity))
+        extra.append(f"v tol {velocity:.0e}")
+    p.text[-1] += ", " + ", ".join(extra)
 
 
 def body_wrappers(p, scene, out, tag):
