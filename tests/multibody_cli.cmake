@@ -67,7 +67,7 @@ file(WRITE ${MB_OUT}/unknown_interface.prm
   "  set Reduced body file = ${MB_OUT}/output/curved_boom_body/reduced_body.h5\nend\n"
   "subsection Joint pivot\n  set Body 1 = boom\n  set Interface 1 = tipp\nend\n")
 flextrack_bad_input(run_joint_names_unknown_interface
-  "unknown_interface.prm: entry 'Joint pivot/Interface 1': body 'boom' has no interface 'tipp'; allowed: tip"
+  "unknown_interface.prm: entry 'Joint pivot/Interface 1': body 'boom' has no interface or output point 'tipp'; allowed: tip"
   run ${MB_OUT}/unknown_interface.prm)
 set_tests_properties(cli_bad_input_run_joint_names_unknown_interface PROPERTIES DEPENDS cli_run_flexible_pendulum_balances_energy)
 
