@@ -17,7 +17,8 @@ endforeach()
 
 # 2. 30 randomised runs (fixed seeds) of six scenes: each completes with finite results or stops
 #    with a clear solver-failure message (exit 3, time named, results readable); never a crash, a
-#    hang (120 s per run; the slowest run takes 9 s, 35 s on the loaded machine) or NaN. Release: about 30 s.
+#    hang (120 s per run; the slowest, seed 1017, takes 10-12 s, 35 s on the loaded machine) or NaN.
+#    Release: about 30 s.
 add_test(NAME stress_randomised_scenes_complete_or_fail_cleanly
   COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/stress/perturbations.py $<TARGET_FILE:flextrack>
           ${CMAKE_CURRENT_BINARY_DIR}/stress_perturbations)
