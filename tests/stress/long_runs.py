@@ -44,6 +44,7 @@ import math
 import os
 import sys
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree when stress_runs is imported
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from stress_runs import TIME_FACTOR, Run, non_finite, write_wrapper  # noqa: E402
 

@@ -30,6 +30,7 @@ import os
 import random
 import sys
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree when stress_runs is imported
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from stress_runs import TIME_FACTOR, Run, body_scenes, non_finite, write_wrapper  # noqa: E402
 
