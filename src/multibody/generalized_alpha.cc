@@ -184,7 +184,8 @@ double GeneralizedAlphaIntegrator::integrate(const double t_end, const double ou
       else if (settings.adaptive_step && t_now + 1.5 * h > t_end) // and leave no sliver of a step
         h = 0.5 * (t_end - t_now);
       if (++steps_here > settings.max_steps)
-        fail("more than 'Maximum steps' = " + std::to_string(settings.max_steps) + " steps", h);
+        fail("more than 'Maximum steps' = " + std::to_string(settings.max_steps) + " steps", h,
+             "raise 'Maximum steps' or shorten the run");
       // Attempt, shrinking on failure (adaptive) or failing (fixed step)
       for (;;)
         {
@@ -289,7 +290,7 @@ void GeneralizedAlphaIntegrator::interpolate(const double t, State &yo, State &y
       }
 }
 
-void GeneralizedAlphaIntegrator::fail(const std::string &what, const double h) const
+void GeneralizedAlphaIntegrator::fail(const std::string &what, const double h, const std::string &advice) const
 {
   State F;
   system.residual(t_now + h, y_new.size() ? y_new : y, yp_new.size() ? yp_new : yp, F);
@@ -300,8 +301,9 @@ void GeneralizedAlphaIntegrator::fail(const std::string &what, const double h) c
   s << std::setprecision(6) << "the time integration (generalised-alpha, rho_inf " << settings.spectral_radius
     << ") failed at t = " << t_now << " s, step " << std::setprecision(3) << h << " s: " << what
     << ". Largest residual: " << system.component_name(worst) << " (" << F[worst] << "). What to change: "
-    << (settings.adaptive_step ? "look for a singular configuration near that time, or loosen the tolerances"
-                               : "set a smaller 'Step', or 'Adaptive step' = true");
+    << (!advice.empty()           ? advice
+        : settings.adaptive_step ? "look for a singular configuration near that time, or loosen the tolerances"
+                                 : "set a smaller 'Step', or 'Adaptive step' = true");
   throw SolverError(s.str());
 }
 } // namespace flextrack::multibody

@@ -47,7 +47,9 @@ private:
   double weighted_norm(const State &d, const State &y) const;
   /// Local error estimate of the step just attempted, in the weighted norm (accept if <= 1).
   double local_error(double h) const;
-  [[noreturn]] void fail(const std::string &what, double h) const;
+  /// Throws SolverError: the time, the step, @p what happened, the largest residual and @p advice
+  /// (empty: the advice for a Newton failure).
+  [[noreturn]] void fail(const std::string &what, double h, const std::string &advice = "") const;
 
   System &system;
   IntegratorSettings settings;

@@ -206,12 +206,20 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
   unsigned long k_output = 1;
   double next_output = output_interval > 0 ? t_first + output_interval : t_end;
   State y, yp;
+  long steps_taken = 0;
   while (t_now < t_end)
     {
       const double t_begin = t_now;
       realtype t_reached = t_now;
       const int flag = IDASolve(sun->ida, t_end, &t_reached, sun->y, sun->yp, IDA_ONE_STEP);
       if (flag < 0) fail(flag);
+      // IDA's own step limit counts within one IDASolve call, and each call here takes one step:
+      // 'Maximum steps' is enforced on the whole call of integrate().
+      if (++steps_taken > settings.max_steps)
+        {
+          last_message = "more than 'Maximum steps' = " + std::to_string(settings.max_steps) + " steps";
+          fail(IDA_TOO_MUCH_WORK);
+        }
       t_now = t_reached;
       int order = 0;
       IDAGetLastOrder(sun->ida, &order);
