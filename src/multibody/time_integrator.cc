@@ -17,7 +17,7 @@ void IntegratorSettings::declare_parameters(ParameterHandler &prm)
                     "Relative tolerance [-]: IDA's error test; generalised-alpha's Newton test and, with an "
                     "adaptive step, its error test.");
   prm.declare_entry("Absolute tolerance", "1e-8", Patterns::Double(0),
-                    "IDA's absolute tolerance, the same for every unknown [m, rad, modal units, and per s].");
+                    "Absolute tolerance, the same for every unknown [m, rad, modal units, and per s] (both methods).");
   prm.declare_entry("Velocity tolerance", "0", Patterns::Double(0),
                     "IDA's absolute tolerance of the velocities [m/s, rad/s, modal units/s], 0 to 1e6; 0: the "
                     "absolute tolerance. A value about the absolute tolerance times the highest angular "

@@ -23,41 +23,15 @@ import shutil
 import subprocess
 import sys
 
+# The scene-file helpers of the stress tests (include expansion, the body scenes of a scene).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "stress"))
+from stress_runs import body_scenes  # noqa: E402
+
 
 def check(condition, message):
     print(("ok:   " if condition else "FAIL: ") + message)
     if not condition:
         sys.exit(1)
-
-
-def expanded_lines(path):
-    """The scene's lines with every 'include FILE' replaced by that file's lines (the rule of
-    src/io/scene_file.cc: FILE relative to the including file's folder)."""
-    lines = []
-    with open(path) as f:
-        for line in f:
-            s = line.strip()
-            if s.startswith("include ") or s.startswith("include\t"):
-                lines += expanded_lines(os.path.join(os.path.dirname(path), s[8:].strip()))
-            else:
-                lines.append(line)
-    return lines
-
-
-def body_scenes(scene):
-    """{body: absolute body scene path} of the flexible bodies of @p scene (the last 'set Body
-    scene' of each 'subsection Body NAME' wins, as in deal.II's parameter files)."""
-    body, found = None, {}
-    for line in expanded_lines(scene):
-        s = line.split("#")[0].strip()
-        if s.startswith("subsection Body "):
-            body = s[len("subsection Body "):].strip()
-        elif s == "end":
-            body = None
-        elif body and s.startswith("set Body scene") and "=" in s:
-            value = s.split("=", 1)[1].strip()
-            found[body] = os.path.normpath(os.path.join(os.path.dirname(scene), value)) if value else ""
-    return {b: p for b, p in found.items() if p}
 
 
 def wrapper(scene, path, end, alpha_step):
