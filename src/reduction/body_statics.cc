@@ -135,6 +135,9 @@ Vector<double> BodyStatics::reduced_solution(const Vector<double> &f, double &st
   for (unsigned int a = 0; a < n; ++a) q[a] = basis.modes[a] * f;
   dealii::LAPACKFullMatrix<double> K(n);
   K = basis.stiffness;
+  // The reduced stiffness is symmetric positive definite; deal.II's debug build checks that the
+  // property is declared before a Cholesky factorisation (the release build does not).
+  K.set_property(dealii::LAPACKSupport::symmetric);
   K.compute_cholesky_factorization();
   Vector<double> eta = q;
   K.solve(eta);
