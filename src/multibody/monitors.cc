@@ -30,7 +30,7 @@ Powers Monitors::powers(const double t, const Vector<double> &y) const
   return p;
 }
 
-Powers Monitors::step_work(const double t0, const double t1) const
+Powers Monitors::step_work(const double t0, const double t1, const bool whole_step) const
 {
   // Simpson's rule on IDA's interpolating polynomial of the last step (valid on [t0, t1]).
   Powers w;
@@ -41,7 +41,14 @@ Powers Monitors::step_work(const double t0, const double t1) const
   for (unsigned int i = 0; i < 3; ++i)
     {
       ida->interpolate(t[i], y, yp);
-      p[i] = powers(t[i], y);
+      const bool known = i == 0 && t[i] == last_time && y == last_state;
+      p[i] = known ? last_powers : powers(t[i], y);
+    }
+  if (whole_step)
+    {
+      last_time = t1;
+      last_state = y;
+      last_powers = p[2];
     }
   const double h = (t1 - t0) / 6;
   w.applied = h * (p[0].applied + 4 * p[1].applied + p[2].applied);
@@ -54,7 +61,7 @@ void Monitors::attach(TimeIntegrator &integrator)
 {
   ida = &integrator;
   integrator.set_step_hook([this](const double t0, const double t1) {
-    const Powers w = step_work(t0, t1);
+    const Powers w = step_work(t0, t1, true);
     work_applied += w.applied;
     work_drivers += w.drivers;
     dissipated += w.dissipation;
@@ -97,7 +104,7 @@ MonitorValues Monitors::evaluate(const double t, const Vector<double> &y) const
   // made the driven slider-crank's balance jump by 5-8 % at rows inside long steps).
   if (ida && t > step_begin && t < step_end)
     {
-      const Powers part = step_work(step_begin, t);
+      const Powers part = step_work(step_begin, t, false);
       m.work_applied -= step_total.applied - part.applied;
       m.work_drivers -= step_total.drivers - part.drivers;
       m.dissipated -= step_total.dissipation - part.dissipation;

@@ -13,6 +13,8 @@
 // the balance closes exactly only without it.
 #pragma once
 
+#include <limits>
+
 #include <multibody/time_integrator.h>
 #include <multibody/system.h>
 
@@ -54,12 +56,18 @@ public:
 
 private:
   /// Works [J] over [t0, t1] inside IDA's last step (Simpson on its interpolating polynomial).
-  Powers step_work(double t0, double t1) const;
+  /// @p whole_step: [t0, t1] is the integrator's last step (its end is remembered for the next).
+  Powers step_work(double t0, double t1, bool whole_step) const;
 
   const System &system;
   const TimeIntegrator *ida = nullptr;
   double work_applied = 0, work_drivers = 0, dissipated = 0; ///< up to the end of the last step
   double step_begin = 0, step_end = 0;                       ///< IDA's last step [s]
   Powers step_total;                                         ///< the works over that step [J]
+  /// The powers at the end of the last step: the next step starts there (unless the state was
+  /// reset, e.g. at an impact), so Simpson's rule needs two new evaluations per step, not three.
+  mutable double last_time = std::numeric_limits<double>::quiet_NaN();
+  mutable dealii::Vector<double> last_state;
+  mutable Powers last_powers;
 };
 } // namespace flextrack::multibody

@@ -167,8 +167,9 @@ private:
   void build_element_indices();
   unsigned int body_index(const Body &b) const;
   // Element residuals, into local rows (ElementIndices::rows order)
+  /// @p mass: the body's mass matrix at these q if the caller has it (it depends on q only).
   void body_residual(unsigned int b, double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
-                     std::vector<double> &out) const;
+                     std::vector<double> &out, const dealii::FullMatrix<double> *mass = nullptr) const;
   void joint_residual(unsigned int j, double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
                       std::vector<double> &out) const;
   void force_residual(unsigned int f, double t, const dealii::Vector<double> &y, std::vector<double> &out) const;

@@ -44,22 +44,54 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
 {
   const ElementIndices &e = kind == body_element ? body_elements[index] : kind == joint_element ? joint_elements[index]
                                                                                                : force_elements[index];
-  auto evaluate = [&](const Vector<double> &yy, std::vector<double> &out) {
-    if (kind == body_element) body_residual(index, t, yy, yp, out);
+  FullMatrix<double> block(e.rows.size(), e.columns.size());
+  // Columns whose derivatives are known without differences (see below): skipped in the loop.
+  std::vector<bool> analytic(e.columns.size(), false);
+  // A body's mass matrix depends on its rotation and modal coordinates only: the differences in
+  // the columns of R and of the velocities reuse the one at y (most of a body's cost).
+  FullMatrix<double> mass;
+  std::vector<bool> same_mass(e.columns.size(), false);
+  if (kind == body_element)
+    {
+      const BodySlot &s = bodies[index];
+      s.body->mass_matrix((y.begin() + (s.q)), mass);
+      for (unsigned int c = 0; c < e.columns.size(); ++c) same_mass[c] = c < 3 || c >= s.body->n_q();
+    }
+  if (kind == joint_element)
+    {
+      // The joint residual is linear in the bodies' velocities, which appear only in the
+      // velocity-constraint rows B v: those columns are B itself. (The joint's own velocities
+      // also enter its own forces, e.g. friction: they keep their differences.)
+      const JointSlot &s = joints[index];
+      const unsigned int n_own = s.joint->n_own_coordinates(), m = s.active.size();
+      JointEvaluation ev;
+      s.joint->evaluate(joint_q(index, y), n_own ? (y.begin() + (s.own_q)) : nullptr, t, ev);
+      unsigned int n_q_cols = n_own, n_v_cols = n_own;
+      for (const unsigned int b : s.body_index) n_q_cols += bodies[b].body->n_q(), n_v_cols += bodies[b].body->n_v();
+      unsigned int c = n_q_cols;
+      for (unsigned int b = 0; b < s.body_index.size(); ++b)
+        for (unsigned int k = 0; k < ev.B[b].n(); ++k, ++c)
+          {
+            analytic[c] = true;
+            for (unsigned int r = 0; r < m; ++r) block(n_q_cols + n_v_cols + r, c) = ev.B[b](s.active[r], k);
+          }
+    }
+  auto evaluate = [&](const unsigned int c, const Vector<double> &yy, std::vector<double> &out) {
+    if (kind == body_element) body_residual(index, t, yy, yp, out, same_mass[c] ? &mass : nullptr);
     else if (kind == joint_element) joint_residual(index, t, yy, yp, out);
     else force_residual(index, t, yy, out);
   };
   Vector<double> yy(y);
   std::vector<double> plus, minus;
-  FullMatrix<double> block(e.rows.size(), e.columns.size());
   for (unsigned int c = 0; c < e.columns.size(); ++c)
     {
+      if (analytic[c]) continue;
       const unsigned int col = e.columns[c];
       const double h = relative_step * (1 + std::abs(y[col]));
       yy[col] = y[col] + h;
-      evaluate(yy, plus);
+      evaluate(c, yy, plus);
       yy[col] = y[col] - h;
-      evaluate(yy, minus);
+      evaluate(c, yy, minus);
       yy[col] = y[col];
       for (unsigned int r = 0; r < e.rows.size(); ++r) block(r, c) = (plus[r] - minus[r]) / (2 * h);
     }

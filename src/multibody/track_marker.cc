@@ -42,6 +42,22 @@ Matrix3 TrackMarker::section_axes(const double s) const
   return a * axes_offset;
 }
 
+const TrackMarker::Place &TrackMarker::place_at(const double s_on) const
+{
+  if (s_on == last_place.s) return last_place;
+  Place &p = last_place;
+  p.s = std::numeric_limits<double>::quiet_NaN(); // not valid until filled (a throw below)
+  p.g = curve->geometry(s_on);
+  p.d2 = frame->y_axis(p.g);
+  p.d2_s = frame->y_axis_rate(p.g, p.d2);
+  const unsigned int n = body().n_modes();
+  p.value.assign(6 * n, 0.0);
+  p.slope.assign(6 * n, 0.0);
+  if (n > 0) field->evaluate(s_on, p.value.data(), p.slope.data());
+  p.s = s_on;
+  return p;
+}
+
 void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics &k) const
 {
   const unsigned int nv = body().n_v(), n = body().n_modes(), ns = nv; // column of s'
@@ -57,9 +73,10 @@ void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics 
       m << "contact '" << name() << "' at s = " << s << " m is off its track [0, " << L << "] m";
       throw std::out_of_range(m.str());
     }
-  const geometry::CurveGeometry g = curve->geometry(s_on);
+  const Place &place = place_at(s_on);
+  const geometry::CurveGeometry &g = place.g;
   const Vector3 t = g.tangent, t_s = g.derivative[1];
-  const Vector3 d2 = frame->y_axis(g), d2_s = frame->y_axis_rate(g, d2);
+  const Vector3 d2 = place.d2, d2_s = place.d2_s;
   const std::array<Vector3, 3> section_end = {{d2, cross_product_3d(t, d2), t}};
   const std::array<Vector3, 3> section_s = {{d2_s, cross_product_3d(t_s, d2) + cross_product_3d(t, d2_s), t_s}};
   std::array<Vector3, 3> section; // beyond an end: continued to first order, so B stays continuous
@@ -76,10 +93,9 @@ void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics 
 
   // Mode fields at s: u, theta and their slopes.
   Vector3 u = Vector3(g.position) + beyond * t + 0.5 * beyond * beyond * t_s, u_s = t + beyond * t_s, theta, theta_s;
-  std::vector<double> value(6 * n), slope(6 * n);
+  std::vector<double> value = place.value, slope = place.slope;
   if (n > 0)
     {
-      field->evaluate(s_on, value.data(), slope.data());
       for (unsigned int i = 0; i < 6 * n; ++i) value[i] += beyond * slope[i];
       for (unsigned int m = 0; m < n; ++m)
         for (unsigned int c = 0; c < 3; ++c)

@@ -27,6 +27,7 @@
 #include <multibody/marker.h>
 #include <reduction/mode_field.h>
 
+#include <limits>
 #include <memory>
 
 namespace flextrack::multibody
@@ -61,6 +62,20 @@ private:
   std::shared_ptr<const geometry::SectionFrame> frame;
   std::shared_ptr<const reduction::ArmModeField> field;
   double s_start, s_rate;
+
+  /// What evaluate() needs from the curve, the section frame and the mode fields at one arc
+  /// length. A Jacobian by differences calls evaluate() once per perturbed coordinate, and all but
+  /// the s column leave s unchanged: the last place is kept (the curve's arc-length inversion was
+  /// a third of the laser robot's run time).
+  struct Place
+  {
+    double s = std::numeric_limits<double>::quiet_NaN();
+    geometry::CurveGeometry g;
+    Vector3 d2, d2_s;
+    std::vector<double> value, slope; ///< 6 x n mode fields and their s-derivatives
+  };
+  const Place &place_at(double s_on) const;
+  mutable Place last_place;
   Matrix3 axes_offset;
 };
 } // namespace flextrack::multibody
