@@ -14,6 +14,8 @@
 
 #include <mpi.h>
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -240,8 +242,23 @@ int dispatch(std::vector<std::string> args, int *argc, char ***argv)
 
 void flextrack::app::start_mpi_for_reduction() { start_mpi(nullptr, nullptr); }
 
+namespace
+{
+/// Debian's OpenBLAS (pthreads) starts one worker per core, and after a threaded call they spin in
+/// sched_yield: on the laser robot and the slewing beam they took 10-15 % of the CPU samples (perf)
+/// from the other core, for BLAS calls on matrices of tens of rows. FlexTrack's dense algebra is
+/// small, so one thread. Looked up at run time: another BLAS (the reference one, BLIS) may be
+/// installed as the alternative, and then there is nothing to do.
+void use_one_blas_thread()
+{
+  using SetThreads = void (*)(int);
+  if (const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
+}
+} // namespace
+
 int main(int argc, char **argv)
 {
+  use_one_blas_thread();
   int status = 0;
   try
     {
