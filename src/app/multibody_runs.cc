@@ -1,8 +1,10 @@
 // Consistent start and integration of a multibody scene (multibody_runs.h).
 #include <app/multibody_runs.h>
+#include <multibody/end_stops.h>
 #include <base/input_error.h>
 #include <base/solver_error.h>
 
+#include <algorithm>
 #include <sstream>
 
 namespace flextrack::app
@@ -26,28 +28,17 @@ multibody::InitialConditionReport consistent_start(io::MultibodyScene &scene, Ve
 std::string integrate(multibody::System &system, multibody::TimeIntegrator &integrator, const multibody::SimulationSettings &settings,
                       const std::function<void(double, const Vector<double> &)> &output)
 {
-  if (system.n_limits())
-    integrator.set_root_functions(system.n_limits(), [&system](double, const Vector<double> &state, const Vector<double> &,
-                                                        double *g) { system.limit_values(state, g); });
   try
     {
-      integrator.integrate(settings.end_time, settings.output_interval,
-                    [&](const double time, const Vector<double> &state, const Vector<double> &) { output(time, state); });
+      return multibody::integrate_with_limits(system, integrator, settings.end_time, settings.output_interval,
+                                              [&](const double time, const Vector<double> &state, const Vector<double> &) {
+                                                output(time, state);
+                                              });
     }
   catch (const SolverError &e)
     {
       return e.what();
     }
-  for (unsigned int i = 0; i < integrator.roots_found().size(); ++i)
-    if (integrator.roots_found()[i] != 0)
-      {
-        Vector<double> state, rate;
-        integrator.interpolate(integrator.time(), state, rate);
-        std::ostringstream m;
-        m << "at t = " << integrator.time() << " s " << system.limit_report(i, state);
-        return m.str();
-      }
-  return "";
 }
 
 } // namespace flextrack::app

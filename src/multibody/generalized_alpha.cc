@@ -60,6 +60,19 @@ void GeneralizedAlphaIntegrator::initialize(const double t0, const State &y0, co
   h_next = settings.step;
   matrix_c = -1;
   stats = IntegratorStatistics();
+  output_origin = t0;
+}
+
+void GeneralizedAlphaIntegrator::reinitialize(const double t, const State &y0, const State &yp0)
+{
+  // A one-step method: the state is all it needs (w restarts at y', as at the start).
+  t_now = t_last = t;
+  y = y_last = y0;
+  yp = yp_last = yp0;
+  w = yp0;
+  h_before = 0;
+  h_next = settings.step;
+  matrix_c = -1;
 }
 
 void GeneralizedAlphaIntegrator::set_root_functions(const unsigned int n, RootFunction g)
@@ -168,8 +181,7 @@ double GeneralizedAlphaIntegrator::integrate(const double t_end, const double ou
   std::vector<double> g_old(n_roots), g_new(n_roots);
   if (n_roots) root_function(t_now, y, yp, g_old.data());
   const double t_first = t_now;
-  unsigned long k_output = 1;
-  double next_output = output_interval > 0 ? t_first + output_interval : t_end;
+  double next_output = next_output_time(t_now, output_interval, t_end);
   const double tiny = 1e-12 * std::max(1.0, std::abs(t_end));
   long steps_here = 0;
   State yo, ypo;
@@ -253,7 +265,7 @@ double GeneralizedAlphaIntegrator::integrate(const double t_end, const double ou
           interpolate(std::min(next_output, t_now), yo, ypo);
           output(std::min(next_output, t_now), yo, ypo);
           if (next_output >= t_end - tiny) break;
-          next_output = output_interval > 0 ? std::min(t_first + double(++k_output) * output_interval, t_end) : t_end;
+          next_output = next_output_time(next_output, output_interval, t_end);
         }
       if (stopped)
         {

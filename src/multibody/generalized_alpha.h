@@ -28,6 +28,7 @@ public:
   void initialize(double t0, const State &y, const State &yp) override;
   void set_root_functions(unsigned int n, RootFunction g) override;
   void set_step_hook(std::function<void(double t_begin, double t_end)> hook) override { step_hook = std::move(hook); }
+  void reinitialize(double t, const State &y, const State &yp) override;
   double integrate(double t_end, double output_interval, const Observer &output) override;
   /// Cubic Hermite interpolation of y (and its derivative) over the last step; linear for the
   /// algebraic unknowns.

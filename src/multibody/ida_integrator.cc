@@ -186,7 +186,18 @@ void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
   IDASetJacFn(sun->ida, IdaCallbacks::jacobian);
   if (n_roots) IDARootInit(sun->ida, n_roots, IdaCallbacks::roots);
   histogram.fill(0);
-  t_now = t0;
+  t_now = output_origin = t0;
+}
+
+void IdaIntegrator::reinitialize(const double t, const State &y, const State &yp)
+{
+  Assert(sun->ida, ExcMessage("initialize() first"));
+  before_restart = statistics();
+  from_vector(y, sun->y);
+  from_vector(yp, sun->yp);
+  if (IDAReInit(sun->ida, t, sun->y, sun->yp) != IDA_SUCCESS)
+    throw SolverError("SUNDIALS IDA could not restart at t = " + std::to_string(t) + " s: " + last_message);
+  t_now = t;
 }
 
 void IdaIntegrator::set_root_functions(const unsigned int n, RootFunction g)
@@ -202,9 +213,7 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
   IDASetStopTime(sun->ida, t_end);
   roots.assign(n_roots, 0);
   // Output times t0 + k dt (not a running sum, which leaves 7.009999999999895 for 7.01).
-  const double t_first = t_now;
-  unsigned long k_output = 1;
-  double next_output = output_interval > 0 ? t_first + output_interval : t_end;
+  double next_output = next_output_time(t_now, output_interval, t_end);
   State y, yp;
   long steps_taken = 0;
   while (t_now < t_end)
@@ -231,7 +240,7 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
           interpolate(std::min(next_output, t_now), y, yp);
           output(std::min(next_output, t_now), y, yp);
           if (next_output >= t_end - tiny) break;
-          next_output = output_interval > 0 ? std::min(t_first + double(++k_output) * output_interval, t_end) : t_end;
+          next_output = next_output_time(next_output, output_interval, t_end);
         }
       if (flag == IDA_ROOT_RETURN)
         {
@@ -272,6 +281,14 @@ IntegratorStatistics IdaIntegrator::statistics() const
   IDAGetNumLinSolvSetups(sun->ida, &s.factorizations);
   IDAGetLastStep(sun->ida, &s.last_step);
   s.order_histogram = histogram;
+  const IntegratorStatistics &b = before_restart;
+  s.steps += b.steps;
+  s.error_test_failures += b.error_test_failures;
+  s.nonlinear_iterations += b.nonlinear_iterations;
+  s.nonlinear_convergence_failures += b.nonlinear_convergence_failures;
+  s.residual_evaluations += b.residual_evaluations;
+  s.jacobian_evaluations += b.jacobian_evaluations;
+  s.factorizations += b.factorizations;
   return s;
 }
 

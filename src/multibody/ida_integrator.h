@@ -31,6 +31,7 @@ public:
   void initialize(double t0, const State &y, const State &yp) override;
   void set_root_functions(unsigned int n, RootFunction g) override;
   void set_step_hook(std::function<void(double t_begin, double t_end)> hook) override { step_hook = std::move(hook); }
+  void reinitialize(double t, const State &y, const State &yp) override;
   double integrate(double t_end, double output_interval, const Observer &output) override;
   /// y and y' at @p t within the last step (IDA's interpolating polynomial).
   void interpolate(double t, State &y, State &yp) const override;
@@ -49,6 +50,8 @@ private:
   std::vector<int> roots;
   std::function<void(double, double)> step_hook;
   std::array<long, 6> histogram{};
+  /// IDA's counters before the last reinitialize() (IDAReInit sets them to zero).
+  IntegratorStatistics before_restart;
   double t_now = 0;
   mutable std::string last_message;
 

@@ -185,6 +185,18 @@ void consistent_derivatives(System &system, const double t, Vector<double> &y, V
       rhs[nv + r] = -(g_plus[r] - g_minus[r]) / (2 * eps);
       for (unsigned int k = 0; k < nv; ++k) K(nv + r, k) = K(k, nv + r) = B(r, k);
     }
+  // A coordinate held at an end stop: its row reads v' = 0 (its force balance is the stop's).
+  auto hold_rows = [&](Vector<double> &b) {
+    for (unsigned int i = 0; i < nv; ++i)
+      if (system.velocity_held(i)) b[i] = 0;
+  };
+  for (unsigned int i = 0; i < nv; ++i)
+    if (system.velocity_held(i))
+      {
+        for (unsigned int k = 0; k < nv + nl; ++k) K(i, k) = 0;
+        K(i, i) = 1;
+      }
+  hold_rows(rhs);
   K.compute_lu_factorization();
   const Vector<double> rhs0(rhs);
   K.solve(rhs);
@@ -199,6 +211,7 @@ void consistent_derivatives(System &system, const double t, Vector<double> &y, V
       system.generalized_forces(t, y, Q, &v_dot);
       rhs = rhs0;
       for (unsigned int i = 0; i < nv; ++i) rhs[i] = Q[i];
+      hold_rows(rhs);
       K.solve(rhs);
     }
 
@@ -209,6 +222,35 @@ void consistent_derivatives(System &system, const double t, Vector<double> &y, V
   for (unsigned int i = 0; i < nv; ++i) yp[nq + i] = rhs[i];
   for (unsigned int r = 0; r < nl; ++r) y[nq + nv + r] = rhs[nv + r];
   for (unsigned int r = 0; r < system.n_mu(); ++r) y[nq + nv + nl + r] = 0;
+}
+
+void project_velocities(const System &system, const double t, Vector<double> &y,
+                        const std::vector<std::pair<unsigned int, double>> &prescribed)
+{
+  Vector<double> phi, phi_t;
+  FullMatrix<double> B;
+  system.constraints(t, y, false, phi, B, phi_t);
+  const unsigned int nq = system.n_q(), nv = system.n_v(), m = B.m(), n = m + prescribed.size();
+  FullMatrix<double> Bx(n, nv);
+  Vector<double> v(nv), r(n);
+  for (unsigned int i = 0; i < nv; ++i) v[i] = y[nq + i];
+  for (unsigned int row = 0; row < m; ++row)
+    {
+      r[row] = phi_t[row];
+      for (unsigned int k = 0; k < nv; ++k)
+        {
+          Bx(row, k) = B(row, k);
+          r[row] += B(row, k) * v[k];
+        }
+    }
+  for (unsigned int p = 0; p < prescribed.size(); ++p)
+    {
+      const unsigned int k = prescribed[p].first - nq;
+      Bx(m + p, k) = 1;
+      r[m + p] = v[k] - prescribed[p].second;
+    }
+  const Vector<double> dv = minimum_norm_correction(weight_inverse(system, y), Bx, r);
+  for (unsigned int i = 0; i < nv; ++i) y[nq + i] += dv[i];
 }
 
 InitialConditionReport consistent_initial_conditions(System &system, const double t0, Vector<double> &y,

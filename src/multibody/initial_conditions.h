@@ -67,7 +67,13 @@ InitialConditionReport consistent_initial_conditions(System &system, double t0, 
 /// earlier rows.
 std::vector<unsigned int> dependent_rows(const dealii::FullMatrix<double> &B, double rank_tolerance);
 
+/// The velocities of y moved onto the active joint equations B v + Phi_t = 0 and onto the
+/// @p prescribed values (index in y of a velocity, value), by the change of least kinetic-energy
+/// norm: the velocity jump of an impulse through the joints (an impact at an end stop).
+void project_velocities(const System &system, double t, dealii::Vector<double> &y,
+                        const std::vector<std::pair<unsigned int, double>> &prescribed);
+
 /// Accelerations and multipliers at (t, y) from the index-1 system; fills yp (q', v') and the
-/// lambda part of y; mu = 0.
+/// lambda part of y; mu = 0. Coordinates held at end stops keep v' = 0.
 void consistent_derivatives(System &system, double t, dealii::Vector<double> &y, dealii::Vector<double> &yp);
 } // namespace flextrack::multibody

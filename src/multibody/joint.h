@@ -59,6 +59,19 @@ public:
   /// track contact: s and L - s). The integrator stops where one reaches zero.
   virtual unsigned int n_limits() const { return 0; }
   virtual void limits(const double * /*own_q*/, double * /*g*/) const {}
+  /// What limit @p k does when it is reached. Default: the run stops with limit_report().
+  /// An end stop instead holds the own coordinate @p coordinate at its lower (@p upper false) or
+  /// upper end: an impact with restitution coefficient e (s'+ = -e s'-), and a rebound slower
+  /// than @p hold_speed [m/s] is held there until the stop would have to pull.
+  struct EndStop
+  {
+    bool stop_run = true;
+    unsigned int coordinate = 0; ///< index among the joint's own coordinates
+    bool upper = false;
+    double restitution = 0;
+    double hold_speed = 0;
+  };
+  virtual EndStop end_stop(unsigned int /*k*/) const { return {}; }
   /// One sentence on limit @p k reached at own coordinates @p own_q, rates @p own_v.
   virtual std::string limit_report(unsigned int k, const double * /*own_q*/, const double * /*own_v*/) const
   {

@@ -165,6 +165,13 @@ ContactInput parse_contact(ParameterHandler &prm, const std::string &prefix, con
   else if (!law_text.empty())
     throw InputError(driver_entry, "a freely sliding contact takes no driver; set 'Sliding" + suffix + " = force' or 'motion'");
 
+  const std::string ends = prm.get("End of track" + suffix);
+  c.sliding.end_stops = ends == "stops";
+  c.sliding.restitution = geometry::get_number(prm, "Restitution" + suffix, prefix, {0, 1, true, "-"});
+  c.sliding.hold_speed = geometry::get_number(prm, "Hold speed" + suffix, prefix, {0, 1e6, true, "m/s"});
+  if (c.sliding.end_stops && c.sliding.drive == TrackDrive::motion)
+    throw InputError(prefix + "End of track" + suffix, "'stops' needs a contact that is not motion-driven (Sliding" +
+                                                         suffix + " = free or force): a driven contact cannot bounce");
   c.s0 = geometry::get_number(prm, "Start arc length" + suffix, prefix, {0, 1e6, true, "m"});
   c.s0_rate = geometry::get_number(prm, "Start speed" + suffix, prefix, {-1e6, 1e6, true, "m/s"});
   if (c.sliding.drive == TrackDrive::motion) // the drive decides where the contact starts
@@ -339,6 +346,16 @@ void declare_joint_parameters(ParameterHandler &prm)
                     "or 'motion' (s prescribed, Driver).");
   prm.declare_entry("Friction", "0", Patterns::Double(),
                     "Track joints: viscous friction along the track, force = -c s' [N s/m], 0 to 1e12.");
+  prm.declare_entry("End of track", "ends run", Patterns::Selection("ends run|stops"),
+                    "Track joints: what the ends of the arm (s = 0, s = L) do: 'ends run' (the run stops there with a "
+                    "report, the default) or 'stops' (end stops: the contact bounces off with the coefficient "
+                    "'Restitution' and is held at the end while the stop pushes; IDA only) [-].");
+  prm.declare_entry("Restitution", "0", Patterns::Double(),
+                    "Track joints with end stops: coefficient of restitution e, 0 (plastic) to 1 (elastic), s'+ = -e s'- "
+                    "[-].");
+  prm.declare_entry("Hold speed", "0.001", Patterns::Double(),
+                    "Track joints with end stops: a rebound slower than this is held at the stop instead [m/s], 0 to "
+                    "1e6.");
   // The second contact of a double-arm sleeve, on arm 'Arm 1' of body 1.
   prm.declare_entry("Arm 1", "", Patterns::Anything(), "Double-arm sleeve: the arm of body 1 (arm II) it holds [-].");
   prm.declare_entry("Start arc length 1", "0", Patterns::Double(),
@@ -352,6 +369,12 @@ void declare_joint_parameters(ParameterHandler &prm)
                     "as an expression of t [s].");
   prm.declare_entry("Friction 1", "0", Patterns::Double(),
                     "Double-arm sleeve: viscous friction along arm 1, force = -c s_II' [N s/m], 0 to 1e12.");
+  prm.declare_entry("End of track 1", "ends run", Patterns::Selection("ends run|stops"),
+                    "Double-arm sleeve: the ends of arm 1, as 'End of track' [-].");
+  prm.declare_entry("Restitution 1", "0", Patterns::Double(),
+                    "Double-arm sleeve: restitution at the end stops of arm 1, 0 to 1 [-].");
+  prm.declare_entry("Hold speed 1", "0.001", Patterns::Double(),
+                    "Double-arm sleeve: hold speed at the end stops of arm 1 [m/s], 0 to 1e6.");
 }
 
 std::unique_ptr<Joint> create_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies)

@@ -97,7 +97,7 @@ MonitorValues Monitors::evaluate(const double t, const Vector<double> &y) const
   for (unsigned int f = 0; f < system.n_forces(); ++f) m.springs += system.force(f).potential_energy(system.force_q(f, y));
   m.work_applied = work_applied;
   m.work_drivers = work_drivers;
-  m.dissipated = dissipated;
+  m.dissipated = dissipated + system.impact_losses(); // impacts at end stops take (1 - e^2) of their energy
   // The works are summed up to the end of IDA's last step, t_n; an output row at t < t_n is
   // interpolated back into that step, so the part of the step after t must come off again
   // (else the row compares E(t) with the work up to t_n: up to one step's work of error, which

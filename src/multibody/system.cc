@@ -326,6 +326,8 @@ void System::joint_residual(const unsigned int j, const double t, const Vector<d
       out[n_q_cols + n_v_cols + r] = Bv[r] + e.phi_t[s.active[r]];
       out[n_q_cols + n_v_cols + m + r] = e.phi[s.active[r]];
     }
+  for (unsigned int i = 0; i < n_own; ++i) // held at an end stop: v = 0 instead of the force balance
+    if (velocity_held(s.own_v + i)) out[n_q_cols + n_v_cols - n_own + i] = y[nq + s.own_v + i];
 }
 
 void System::force_residual(const unsigned int f, const double t, const Vector<double> &y, std::vector<double> &out) const

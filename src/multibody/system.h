@@ -124,6 +124,22 @@ public:
   void limit_values(const dealii::Vector<double> &y, double *g) const;
   /// The sentence on limit @p i (of n_limits()) reached at @p y.
   std::string limit_report(unsigned int i, const dealii::Vector<double> &y) const;
+  /// As above, with held end stops: a held stop's function is its push (Joint::EndStop), which
+  /// turns negative where the stop would have to pull.
+  void limit_values(double t, const dealii::Vector<double> &y, double *g) const;
+  /// Limit @p i's behaviour, and the index in y of the velocity of the coordinate it bounds.
+  Joint::EndStop end_stop(unsigned int i, unsigned int &velocity_index) const;
+  /// Holds the coordinate of limit @p i at its stop (its velocity row reads v = 0 instead of the
+  /// force balance along the track) or releases it.
+  void set_held(unsigned int i, bool held);
+  bool is_held(unsigned int i) const { return i < held_limit.size() && held_limit[i]; }
+  /// True if velocity coordinate @p k (index in v) is held at a stop.
+  bool velocity_held(unsigned int k) const { return k < held_velocity.size() && held_velocity[k]; }
+  /// Energy that impacts at end stops have taken so far [J] (the monitors count it as dissipated).
+  double impact_losses() const { return impact_energy; }
+  void add_impact_loss(double joules) { impact_energy += joules; }
+  /// Kinetic energy of all bodies at y [J].
+  double kinetic_energy(const dealii::Vector<double> &y) const;
   /// Of the joints' own forces at (t, y): power of the applied part, dissipated power (>= 0) [W].
   void own_force_powers(double t, const dealii::Vector<double> &y, double &applied, double &dissipated) const;
 
@@ -193,6 +209,13 @@ private:
   bool finalized = false;
   std::vector<ElementIndices> body_elements, joint_elements, force_elements;
   std::unique_ptr<JacobianSolver> solver;
+  std::vector<char> held_limit, held_velocity; ///< per limit, per velocity coordinate
+  double impact_energy = 0;
+  /// Joint and local limit index of limit @p i.
+  std::pair<unsigned int, unsigned int> limit_owner(unsigned int i) const;
+  /// The push of the stop that holds own coordinate @p coordinate of joint @p j: B^T lambda - Q
+  /// along it, what the free force balance leaves [N].
+  double stop_force(unsigned int j, unsigned int coordinate, double t, const dealii::Vector<double> &y) const;
   unsigned long jacobian_count = 0;
 };
 } // namespace flextrack::multibody

@@ -193,7 +193,8 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
             {
               const FullMatrix<double> &B = b == s.body_index.size() ? ev.B_own : ev.B[b];
               for (unsigned int k = 0; k < B.n(); ++k, ++c)
-                solver->add(e.columns[n_qc + c], l0 + s.multiplier + r, B(s.active[r], k)); // B^T lambda
+                if (!(b == s.body_index.size() && velocity_held(s.own_v + k))) // a held row has no B^T lambda
+                  solver->add(e.columns[n_qc + c], l0 + s.multiplier + r, B(s.active[r], k)); // B^T lambda
             }
           Assert(c == n_vc, ExcInternalError());
           (void)n_vc;

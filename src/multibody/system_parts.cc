@@ -86,6 +86,69 @@ void System::limit_values(const Vector<double> &y, double *g) const
       }
 }
 
+std::pair<unsigned int, unsigned int> System::limit_owner(unsigned int i) const
+{
+  for (unsigned int j = 0; j < joints.size(); ++j)
+    {
+      if (i < joints[j].joint->n_limits()) return {j, i};
+      i -= joints[j].joint->n_limits();
+    }
+  Assert(false, ExcMessage("no such limit"));
+  return {0, 0};
+}
+
+Joint::EndStop System::end_stop(const unsigned int i, unsigned int &velocity_index) const
+{
+  const auto [j, k] = limit_owner(i);
+  const Joint::EndStop e = joints[j].joint->end_stop(k);
+  velocity_index = nq + joints[j].own_v + e.coordinate;
+  return e;
+}
+
+void System::set_held(const unsigned int i, const bool held)
+{
+  held_limit.resize(n_limits(), 0);
+  held_velocity.resize(nv, 0);
+  unsigned int v = 0;
+  end_stop(i, v);
+  held_limit[i] = held;
+  held_velocity[v - nq] = held;
+}
+
+double System::stop_force(const unsigned int j, const unsigned int coordinate, const double t, const Vector<double> &y) const
+{
+  const JointSlot &s = joints[j];
+  JointEvaluation e;
+  s.joint->evaluate(joint_q(j, y), y.begin() + s.own_q, t, e);
+  std::vector<double> applied, dissipative;
+  own_forces(j, t, y, applied, dissipative);
+  const double *lambda = y.begin() + nq + nv + s.multiplier;
+  double push = -(applied[coordinate] + dissipative[coordinate]);
+  for (unsigned int r = 0; r < s.active.size(); ++r) push += e.B_own(s.active[r], coordinate) * lambda[r];
+  return push;
+}
+
+void System::limit_values(const double t, const Vector<double> &y, double *g) const
+{
+  limit_values(y, g);
+  for (unsigned int i = 0; i < held_limit.size(); ++i)
+    if (held_limit[i])
+      {
+        const auto [j, k] = limit_owner(i);
+        const Joint::EndStop e = joints[j].joint->end_stop(k);
+        // The stop at the lower end pushes towards +s, the one at the upper end towards -s.
+        const double push = stop_force(j, e.coordinate, t, y);
+        g[i] = e.upper ? -push : push;
+      }
+}
+
+double System::kinetic_energy(const Vector<double> &y) const
+{
+  double T = 0;
+  for (unsigned int b = 1; b < bodies.size(); ++b) T += bodies[b].body->kinetic_energy(q_of(b, y), v_of(b, y));
+  return T;
+}
+
 std::string System::limit_report(unsigned int i, const Vector<double> &y) const
 {
   for (const auto &j : joints)

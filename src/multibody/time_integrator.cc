@@ -3,6 +3,9 @@
 #include <multibody/ida_integrator.h>
 #include <multibody/time_integrator.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace flextrack::multibody
 {
 using namespace dealii;
@@ -70,5 +73,14 @@ std::unique_ptr<TimeIntegrator> make_integrator(System &system, const Integrator
   if (settings.method == IntegrationMethod::generalized_alpha)
     return std::make_unique<GeneralizedAlphaIntegrator>(system, settings);
   return std::make_unique<IdaIntegrator>(system, settings);
+}
+double TimeIntegrator::next_output_time(const double t_now, const double output_interval, const double t_end) const
+{
+  if (!(output_interval > 0)) return t_end;
+  const double tiny = 1e-12 * std::max(1.0, std::abs(t_end));
+  double k = std::floor((t_now - output_origin) / output_interval) + 1;
+  while (output_origin + (k - 1) * output_interval > t_now + tiny) --k; // floor's round-off
+  while (output_origin + k * output_interval <= t_now + tiny) ++k;
+  return std::min(output_origin + k * output_interval, t_end);
 }
 } // namespace flextrack::multibody

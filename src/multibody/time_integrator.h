@@ -69,12 +69,17 @@ public:
   virtual ~TimeIntegrator() = default;
   /// Start at @p t0 from consistent @p y, @p yp (consistent_initial_conditions()).
   virtual void initialize(double t0, const State &y, const State &yp) = 0;
+  /// Restarts at @p t from consistent @p y, @p yp after a jump of the state (an impact at a track's
+  /// end stop, a contact held or released there): the step history is dropped, the settings, root
+  /// functions, statistics and output times (still t0 + k dt of initialize()) are kept.
+  virtual void reinitialize(double t, const State &y, const State &yp) = 0;
   virtual void set_root_functions(unsigned int n, RootFunction g) = 0;
   /// Called after every internal step with the step's start and end time; interpolate() is valid
   /// on that interval (for quadratures such as the work of forces).
   virtual void set_step_hook(std::function<void(double t_begin, double t_end)> hook) = 0;
-  /// Integrates to @p t_end, calling @p output at t0 + k @p output_interval (k >= 1) and at the
-  /// end. Returns the time reached: t_end, or earlier where a root function changed sign.
+  /// Integrates to @p t_end, calling @p output at t0 + k @p output_interval (t0 of initialize(),
+  /// the times after the current one) and at the end. Returns the time reached: t_end, or earlier
+  /// where a root function changed sign (the state there is output too); calling it again goes on.
   virtual double integrate(double t_end, double output_interval, const Observer &output) = 0;
   /// y and y' at @p t within the last step.
   virtual void interpolate(double t, State &y, State &yp) const = 0;
@@ -82,6 +87,11 @@ public:
   virtual const std::vector<int> &roots_found() const = 0;
   virtual IntegratorStatistics statistics() const = 0;
   virtual double time() const = 0;
+
+protected:
+  /// The first output time t0 + k dt after @p t_now (t0: output_origin), k >= 1.
+  double next_output_time(double t_now, double output_interval, double t_end) const;
+  double output_origin = 0; ///< t0 of initialize() [s]
 };
 
 /// The integrator that @p settings ask for, on @p system.

@@ -48,6 +48,18 @@ void TrackJoint::limits(const double *own_q, double *g) const
     }
 }
 
+Joint::EndStop TrackJoint::end_stop(const unsigned int k) const
+{
+  const Contact &c = contacts[k / 2];
+  EndStop e;
+  e.stop_run = !c.sliding.end_stops;
+  e.coordinate = c.own;
+  e.upper = k % 2 == 1;
+  e.restitution = c.sliding.restitution;
+  e.hold_speed = c.sliding.hold_speed;
+  return e;
+}
+
 std::string TrackJoint::limit_report(const unsigned int k, const double *own_q, const double *own_v) const
 {
   const Contact &c = contacts[k / 2];

@@ -11,7 +11,8 @@
 //   force   Q_s = F(t) - c s'      (a tangential drive force F [N], an expression of t)
 //   motion  s = s_d(t)             (a driver row; s_d an expression of t [m])
 // The ends of the track are limits (s = 0, s = L): the integrator stops there and the run
-// reports the time, the joint, s and the speed. A sleeve between two arms has two contacts, each
+// reports the time, the joint, s and the speed; or, with end stops, the contact hits them with a
+// restitution coefficient and is held at an end while the stop pushes (app/multibody_runs.cc). A sleeve between two arms has two contacts, each
 // with its own s, sliding law and limits.
 #pragma once
 
@@ -30,6 +31,9 @@ struct TrackSliding
   TrackDrive drive = TrackDrive::free;
   std::shared_ptr<const geometry::Expression> law; ///< F(t) [N] or s_d(t) [m]
   double friction = 0;                             ///< viscous coefficient c [N s/m]
+  bool end_stops = false;     ///< the track's ends hold the contact (else the run stops there)
+  double restitution = 0;     ///< e at the end stops [-], 0..1
+  double hold_speed = 1e-3;   ///< rebounds slower than this are held at the stop [m/s]
 };
 
 class TrackJoint : public GenericJoint
@@ -49,6 +53,7 @@ public:
   unsigned int n_limits() const override { return 2 * contacts.size(); }
   void limits(const double *own_q, double *g) const override;
   std::string limit_report(unsigned int k, const double *own_q, const double *own_v) const override;
+  EndStop end_stop(unsigned int k) const override;
 
 private:
   struct Contact

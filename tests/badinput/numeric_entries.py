@@ -138,7 +138,7 @@ TEXT_ENTRIES = {"Node sets", "Points file", "Mesh file", "Directory", "Export fo
                 "Bodies", "Joints", "Forces", "Probes", "Body", "Body 1", "Body 2", "Interface", "Interface 1",
                 "Interface 2", "Frame", "Body scene", "Reduced body file", "Rigid", "Geometric stiffening",
                 "Flexible bodies rigid", "Rigid reference", "Body axes", "Driver", "Modal coordinates", "Modal velocities", "Initial state",
-                "Arm", "Sliding", "Arm 1", "Sliding 1", "Driver 1", "Adaptive step"}
+                "Arm", "Sliding", "Arm 1", "Sliding 1", "Driver 1", "Adaptive step", "End of track", "End of track 1"}
 
 # Failures in code owned elsewhere, reported as "known" instead of failing the test; each names
 # where it is to be fixed. (scene or "*", entry path, value) -> reason.

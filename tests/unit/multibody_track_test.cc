@@ -10,6 +10,8 @@
 #include <multibody/marker.h>
 #include <multibody/monitors.h>
 #include <multibody/track_joint.h>
+#include <multibody/end_stops.h>
+#include <multibody/time_integrator.h>
 #include <reduction/component_modes.h>
 #include <reduction/reduced_body_builder.h>
 
@@ -436,4 +438,152 @@ TEST(MultibodyTrack, contact_crossing_element_boundaries_does_not_collapse_the_s
   // Both still match Fryba's maximum (1.73048 v0, REFERENCES.md section 5) within 1 %.
   EXPECT_NEAR(coarse.peak, 1.73048, 0.01 * 1.73048);
   EXPECT_NEAR(fine.peak, 1.73048, 0.01 * 1.73048);
+}
+
+namespace
+{
+/// A 1 kg bead on a rigid straight rod through the origin, inclined at @p alpha [rad] (rising
+/// along +x), from rest at s0 = 0.5 m, under gravity 9.81 m/s^2, the lower end (s = 0) an end
+/// stop with restitution @p e. Returns s(t) at every output time (1 ms) up to @p t_end, the
+/// system and the final state.
+struct BouncingBead
+{
+  std::unique_ptr<System> system;
+  std::vector<std::pair<double, double>> s_of_t;
+  Vector<double> last;
+  double t_reached = 0;
+};
+
+BouncingBead bounce_on_incline(const double alpha, const double e, const double t_end, const bool generalized_alpha)
+{
+  BouncingBead b;
+  b.system = std::make_unique<System>(Vector3({0, 0, -9.81}));
+  System &s = *b.system;
+  const double L = 1, s0 = 0.5;
+  const Vector3 dir({std::cos(alpha), 0, std::sin(alpha)});
+  const auto curve = line(Vector3(), L * dir);
+  const Body &ball = add_rigid(s, "bead", 1.0, diagonal(1e-3, 1e-3, 1e-3), s0 * dir);
+  TrackSliding sliding;
+  sliding.end_stops = true;
+  sliding.restitution = e;
+  add_track_joint(s, "rod", ball, s.ground(), curve, frame_of(curve, geometry::SectionFrame::Kind::fixed_vector, Vector3({0, 1, 0})),
+                  nullptr, s0, 0.0, bead, sliding);
+  s.finalize();
+  Vector<double> y, yp;
+  consistent_initial_conditions(s, 0, y, yp);
+  IntegratorSettings settings = tight(1e-10, 1e-12);
+  if (generalized_alpha)
+    {
+      settings.method = IntegrationMethod::generalized_alpha;
+      settings.step = 1e-4;
+      settings.spectral_radius = 0.8;
+    }
+  auto integrator = make_integrator(s, settings);
+  integrator->initialize(0, y, yp);
+  const std::string report =
+    integrate_with_limits(s, *integrator, t_end, 1e-3, [&](double t, const Vector<double> &yy, const Vector<double> &) {
+      b.s_of_t.emplace_back(t, own_s(s, yy));
+      b.last = yy;
+    });
+  EXPECT_EQ(report, "");
+  b.t_reached = integrator->time();
+  return b;
+}
+
+/// The closed form of the bouncing bead: s(t) on the incline (a = g sin(alpha) down the rod),
+/// impacts at t_1 = sqrt(2 s0 / a), then every 2 e^k t_1 (k = 1, 2, ...), rebound speed e^k a t_1.
+double bouncing_bead_s(const double t, const double a, const double s0, const double e)
+{
+  const double t1 = std::sqrt(2 * s0 / a);
+  if (t <= t1) return s0 - 0.5 * a * t * t;
+  double start = t1, v = e * a * t1;
+  for (int k = 1; k < 60; ++k)
+    {
+      const double flight = 2 * v / a;
+      if (t <= start + flight) return v * (t - start) - 0.5 * a * (t - start) * (t - start);
+      start += flight;
+      v *= e;
+    }
+  return 0;
+}
+} // namespace
+
+TEST(MultibodyTrack, end_stop_bounces_a_bead_with_restitution_and_then_holds_it)
+{
+  // Closed form (elementary mechanics, a ball bouncing on an incline; no friction, point mass):
+  // alpha = 30 deg, a = g sin(alpha) = 4.905 m/s^2 down the rod, s0 = 0.5 m, e = 0.5. First
+  // impact at t1 = sqrt(2 s0 / a) = 0.451524 s with 2.21473 m/s; each rebound reaches e^2 of the
+  // previous height (0.125 m, 0.03125 m, ...); the bounces end at t1 (1 + 2e / (1 - e)) = 3 t1
+  // = 1.354571 s, after which the bead rests at s = 0, held by the stop with the force
+  // m g sin(alpha) = 4.905 N along +s. All the potential energy m g s0 sin(alpha) = 2.4525 J is
+  // then taken by the impacts (the last rebounds, below the 1 mm/s hold speed, are held).
+  const double alpha = M_PI / 6, e = 0.5, a = 9.81 * std::sin(alpha), s0 = 0.5;
+  const BouncingBead b = bounce_on_incline(alpha, e, 2.0, false);
+  EXPECT_NEAR(b.t_reached, 2.0, 1e-12);
+  double worst = 0;
+  for (const auto &[t, s] : b.s_of_t)
+    if (t < 1.3) worst = std::max(worst, std::abs(s - bouncing_bead_s(t, a, s0, e)));
+  std::cout << "IDA: s(t) against the closed form " << worst << " m, impact losses " << b.system->impact_losses()
+            << " J, steps to t = 2 s " << b.s_of_t.size() << " rows" << std::endl;
+  EXPECT_LT(worst, 1e-6 * s0) << "s(t) against the closed form before the bounces fade (bound 1e-6 of s0)";
+  for (const auto &[t, s] : b.s_of_t)
+    if (t > 1.36) ASSERT_NEAR(s, 0.0, 1e-9) << "held at the stop at t = " << t;
+  const System &s = *b.system;
+  EXPECT_NEAR(s.impact_losses(), 1.0 * 9.81 * std::sin(alpha) * s0, 1e-6 * 2.4525) << "energy taken by the impacts [J]";
+  EXPECT_TRUE(s.is_held(0));
+  std::vector<double> g(s.n_limits());
+  s.limit_values(2.0, b.last, g.data());
+  EXPECT_NEAR(g[0], 9.81 * std::sin(alpha), 1e-8 * 4.905) << "the stop's push [N] = m g sin(alpha)";
+  EXPECT_NEAR(own_s_rate(s, b.last), 0.0, 1e-12);
+}
+
+TEST(MultibodyTrack, end_stop_with_generalized_alpha_matches_the_closed_form)
+{
+  // The same bouncing bead with generalised-alpha (fixed step 0.1 ms, rho_inf 0.8): the
+  // integrator restarts after each impact like IDA. Bounds from its second-order error at this
+  // step: s(t) to 1e-5 of s0 before the bounces fade; at rest on the stop afterwards.
+  const double alpha = M_PI / 6, e = 0.5, a = 9.81 * std::sin(alpha), s0 = 0.5;
+  const BouncingBead b = bounce_on_incline(alpha, e, 1.6, true);
+  double worst = 0;
+  for (const auto &[t, s] : b.s_of_t)
+    if (t < 1.3) worst = std::max(worst, std::abs(s - bouncing_bead_s(t, a, s0, e)));
+  std::cout << "generalised-alpha: s(t) against the closed form " << worst << " m" << std::endl;
+  EXPECT_LT(worst, 1e-5 * s0);
+  EXPECT_NEAR(own_s(*b.system, b.last), 0.0, 1e-9);
+  EXPECT_TRUE(b.system->is_held(0));
+}
+
+TEST(MultibodyTrack, end_stop_without_restitution_keeps_the_contact_on_the_curve)
+{
+  // A bead pushed along a horizontal rigid rail at 2 m/s from s = 0.1 m, no gravity, e = 0: it
+  // reaches the end of the 1 m rail at t = 0.45 s (closed form), stops dead there (plastic impact:
+  // all of its kinetic energy, 2 J, is lost) and stays at s = L, on the curve, to the end of the run.
+  System s;
+  const auto curve = line(Vector3(), Vector3({1, 0, 0}));
+  const Body &ball = add_rigid(s, "bead", 1.0, diagonal(1e-3, 1e-3, 1e-3), Vector3({0.1, 0, 0}), {{1, 0, 0, 0}},
+                               Vector3({2, 0, 0}));
+  TrackSliding sliding;
+  sliding.end_stops = true;
+  add_track_joint(s, "rail", ball, s.ground(), curve,
+                  frame_of(curve, geometry::SectionFrame::Kind::fixed_vector, Vector3({0, 0, 1})), nullptr, 0.1, 2.0, bead,
+                  sliding);
+  s.finalize();
+  Vector<double> y, yp;
+  consistent_initial_conditions(s, 0, y, yp);
+  IdaIntegrator ida(s, tight(1e-8, 1e-10));
+  ida.initialize(0, y, yp);
+  double worst_beyond = 0, first_at_end = -1;
+  const std::string report =
+    integrate_with_limits(s, ida, 1.0, 0.01, [&](double t, const Vector<double> &yy, const Vector<double> &) {
+      const double x = own_s(s, yy);
+      if (t > 0.4501) worst_beyond = std::max(worst_beyond, std::abs(x - 1.0));
+      if (first_at_end < 0 && std::abs(x - 1.0) < 1e-8) first_at_end = t;
+    });
+  EXPECT_EQ(report, "");
+  std::cout << "plastic stop: at the end from t = " << first_at_end << " s, |s - L| <= " << worst_beyond
+            << " m, impact loss " << s.impact_losses() << " J" << std::endl;
+  EXPECT_NEAR(ida.time(), 1.0, 1e-12);
+  EXPECT_NEAR(first_at_end, 0.45, 1e-8) << "the impact time (closed form 0.45 s)";
+  EXPECT_LT(worst_beyond, 1e-8) << "|s - L| after the impact [m]";
+  EXPECT_NEAR(s.impact_losses(), 2.0, 1e-8) << "the plastic impact takes m v^2 / 2 = 2 J";
 }
