@@ -133,72 +133,89 @@ std::string describe(const io::ArmScene &scene)
       << " elements of degree " << scene.arm.degree;
   return d.str();
 }
-/// The component (0..5 for arms: u then theta; 0..2 for solids) of every dof.
-template <int dim>
-std::vector<unsigned int> dof_components(const DoFHandler<dim, 3> &dofs)
+/// Participation factors, effective masses and classes of the modes (one process only: the
+/// matrices of a solid under mpirun are distributed).
+struct Participation
 {
-  std::vector<unsigned int> component(dofs.n_dofs(), 0);
-  const unsigned int n = dofs.get_fe().n_components();
-  for (unsigned int c = 0; c < n; ++c)
-    {
-      std::vector<bool> mask(n, false);
-      mask[c] = true;
-      for (const auto i : DoFTools::extract_dofs(dofs, ComponentMask(mask))) component[i] = c;
-    }
-  return component;
-}
+  reduction::ModalParticipation masses;
+  std::vector<reduction::ModeClass> classes;
+  bool arm = false;
+};
 
-/// Participation factors and effective masses of the modes (one process only: the matrices of
-/// a solid under mpirun are distributed).
-std::optional<reduction::ModalParticipation> participation(const Model &model, const reduction::Modes &modes)
+std::optional<Participation> participation(const Model &model, const reduction::Modes &modes,
+                                           const reduction::ModalSettings &settings)
 {
   if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1) return std::nullopt;
-  if (model.arm)
-    return reduction::modal_participation(modes.shapes, model.arm->mass_matrix(), dof_components(model.arm->dof_handler()));
-  return reduction::modal_participation(modes.shapes, model.solid->mass_matrix(), dof_components(model.solid->dof_handler()));
+  const reduction::DofLayout layout = model.arm ? reduction::dof_layout(*model.arm) : reduction::dof_layout(*model.solid);
+  const auto &M = model.arm ? model.arm->mass_matrix() : model.solid->mass_matrix();
+  const Point<3> x_ref(settings.participation_reference[0], settings.participation_reference[1],
+                       settings.participation_reference[2]);
+  Participation p;
+  p.masses = reduction::modal_participation(modes.shapes, M, layout, x_ref);
+  p.classes = reduction::classify_modes(modes.shapes, M, layout, p.masses);
+  p.arm = static_cast<bool>(model.arm);
+  return p;
 }
 
-/// The table of effective masses: per mode the fraction of r_d^T M r_d in x, y, z and the
-/// cumulative fractions; and the same as JSON.
-void print_participation(const reduction::ModalParticipation &p)
+/// The table of effective masses, as CalculiX prints them: per mode the fraction of r_d^T M r_d
+/// in x, y, z, rx, ry, rz, the cumulative fractions, the dominant direction and the mode's class.
+void print_participation(const Participation &participation)
 {
+  const auto &p = participation.masses;
   std::cout << "\n  effective modal mass, fraction of the moving mass (x " << std::setprecision(6) << p.total_mass[0]
-            << ", y " << p.total_mass[1] << ", z " << p.total_mass[2] << " kg)\n"
-            << "  mode      x        y        z      sum x    sum y    sum z   dominant\n";
-  std::array<double, 3> sum{};
+            << ", y " << p.total_mass[1] << ", z " << p.total_mass[2] << " kg)\n  and of its moment of inertia about "
+            << "axes through x_ref = (" << p.reference_point << ") m (rx " << p.total_mass[3] << ", ry " << p.total_mass[4]
+            << ", rz " << p.total_mass[5] << " kg m^2)\n"
+            << "  mode      x      y      z     rx     ry     rz  sum x  sum y  sum z sum rx sum ry sum rz  dom"
+            << (participation.arm ? "  class (kinetic energy share)" : "") << "\n";
+  std::array<double, 6> sum{};
   for (std::size_t k = 0; k < p.effective_mass.size(); ++k)
     {
-      std::array<double, 3> f{};
-      unsigned int dominant = 0;
-      for (unsigned int d = 0; d < 3; ++d)
-        {
-          f[d] = p.total_mass[d] > 0 ? p.effective_mass[k][d] / p.total_mass[d] : 0.0;
-          sum[d] += f[d];
-          if (f[d] > f[dominant]) dominant = d;
-        }
       std::cout << "  " << std::setw(4) << k + 1 << std::fixed << std::setprecision(4);
-      for (unsigned int d = 0; d < 3; ++d) std::cout << std::setw(9) << f[d];
-      for (unsigned int d = 0; d < 3; ++d) std::cout << std::setw(9) << sum[d];
-      std::cout << "   " << (f[dominant] > 1e-3 ? std::string(1, "xyz"[dominant]) : std::string("-")) << "\n"
-                << std::defaultfloat;
+      for (unsigned int d = 0; d < 6; ++d)
+        {
+          sum[d] += p.fraction(k, d);
+          std::cout << std::setw(7) << std::setprecision(4) << p.fraction(k, d);
+        }
+      for (unsigned int d = 0; d < 6; ++d) std::cout << std::setw(7) << std::setprecision(4) << sum[d];
+      const unsigned int dominant = p.dominant_direction(k);
+      std::string name = dominant < 6 ? reduction::rigid_direction_names[dominant] : "-";
+      if (participation.arm) name.resize(3, ' ');
+      std::cout << "  " << name;
+      if (participation.arm)
+        std::cout << "  " << participation.classes[k].kind << " (" << std::setprecision(3)
+                  << participation.classes[k].share << ")";
+      std::cout << "\n" << std::defaultfloat;
     }
 }
 
-std::string participation_json(const reduction::ModalParticipation &p)
+std::string participation_json(const Participation &participation)
 {
+  const auto &p = participation.masses;
   io::JsonObject j;
-  j.add("total_moving_mass_kg", std::vector<double>(p.total_mass.begin(), p.total_mass.end()));
-  for (unsigned int d = 0; d < 3; ++d)
+  j.add("total_moving_mass_kg", std::vector<double>(p.total_mass.begin(), p.total_mass.begin() + 3))
+    .add("reference_point_m", std::vector<double>{p.reference_point[0], p.reference_point[1], p.reference_point[2]})
+    .add("total_moment_of_inertia_kg_m2", std::vector<double>(p.total_mass.begin() + 3, p.total_mass.end()));
+  for (unsigned int d = 0; d < 6; ++d)
     {
       std::vector<double> gamma, fraction;
       for (std::size_t k = 0; k < p.factors.size(); ++k)
         {
           gamma.push_back(p.factors[k][d]);
-          fraction.push_back(p.total_mass[d] > 0 ? p.effective_mass[k][d] / p.total_mass[d] : 0.0);
+          fraction.push_back(p.fraction(k, d));
         }
-      const std::string axis(1, "xyz"[d]);
-      j.add("participation_factor_" + axis + "_sqrt_kg", gamma).add("effective_mass_fraction_" + axis, fraction);
+      const std::string axis = reduction::rigid_direction_names[d];
+      j.add("participation_factor_" + axis + (d < 3 ? "_sqrt_kg" : "_sqrt_kg_m"), gamma)
+        .add("effective_mass_fraction_" + axis, fraction);
     }
+  std::string kind = "[";
+  std::vector<double> share;
+  for (const auto &c : participation.classes)
+    {
+      kind += (share.empty() ? "" : ", ") + io::JsonObject::quote(c.kind);
+      share.push_back(c.share);
+    }
+  j.raw("mode_class", kind + "]").add(participation.arm ? "mode_class_energy_share" : "mode_class_effective_mass_fraction", share);
   return j.str(2);
 }
 } // namespace
@@ -214,7 +231,7 @@ int modes_command(const Options &options, const io::SceneFile &file)
   Model model;
   const ModalRun run = analyse(scene, 0, timer, &model);
   const std::vector<double> f = run.modes.frequencies_hz();
-  const auto masses = participation(model, run.modes);
+  const auto masses = participation(model, run.modes, scene.modal);
 
   // Every computation has succeeded: now write the results.
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));

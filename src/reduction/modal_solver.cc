@@ -34,6 +34,9 @@ void ModalSettings::declare_parameters(ParameterHandler &prm)
                     "Sparse direct solver that factorises K - sigma M: 'cholmod' (supernodal Cholesky, "
                     "SuiteSparse; falls back to 'mumps' when K - sigma M is not positive definite), 'mumps' "
                     "(Trilinos Amesos, symmetric LDL^T), 'klu' (Trilinos Amesos, LU). 'auto' = cholmod.");
+  prm.declare_entry("Participation reference point", "0, 0, 0", Patterns::List(Patterns::Double(), 3, 3, ","),
+                    "modes: the point x, y, z [m] through which the axes of the rotational participation "
+                    "factors and effective masses (rx, ry, rz) pass; each coordinate at most 1e9 m in size.");
   prm.leave_subsection();
 }
 
@@ -61,6 +64,15 @@ ModalSettings ModalSettings::parse_parameters(ParameterHandler &prm)
   if (s.max_iterations > 1000000)
     throw InputError("Modal analysis/Maximum iterations", prm.get("Maximum iterations") + "; allowed: 1 to 1000000");
   s.direct_solver = prm.get("Direct solver");
+  const std::string point = "Modal analysis/Participation reference point";
+  s.participation_reference = base::parse_vector3(prm.get("Participation reference point"), point, "m");
+  for (const double c : s.participation_reference)
+    if (!(std::abs(c) <= 1e9)) // the bound of mesh coordinates (fem/raw_mesh.h)
+      {
+        std::ostringstream m;
+        m << "coordinate " << c << " m; allowed: coordinates of at most 1e9 m in size";
+        throw InputError(point, m.str());
+      }
   prm.leave_subsection();
   return s;
 }

@@ -15,6 +15,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -30,6 +31,8 @@ struct ModalSettings
   unsigned int max_iterations = 1000;
   /// Sparse direct solver for K - sigma M: "auto" (= "cholmod"), "cholmod", "mumps", "klu".
   std::string direct_solver = "auto";
+  /// Point [m] through which the rotation axes of the modal participation pass (modes only).
+  std::array<double, 3> participation_reference{};
 
   static void declare_parameters(dealii::ParameterHandler &prm);
   static ModalSettings parse_parameters(dealii::ParameterHandler &prm);
