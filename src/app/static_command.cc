@@ -22,13 +22,16 @@
 #include <io/arm_scene.h>
 #include <io/body_scene.h>
 #include <io/output_folder.h>
+#include <io/static_field_writer.h>
 #include <reduction/body_statics.h>
 #include <reduction/static_solver.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
+#include <functional>
 #include <iomanip>
+#include <memory>
 #include <iostream>
 #include <sstream>
 
@@ -57,7 +60,40 @@ struct Report
   std::vector<CaseResult> cases;
   unsigned int n_cells = 0, n_dofs = 0, n_free_dofs = 0;
   std::string description;
+  /// Writes the fields of every case (VTU, and the arm's section_forces.csv) into the folder.
+  std::function<void(io::OutputFolder &)> write_fields;
+  std::string files; ///< what write_fields writes, for the last line of the log
 };
+
+/// section_forces.csv of an arm: per case the section forces along s (fem::SectionForces).
+std::string section_force_table(const fem::CurvedBeamModel &model, const std::vector<std::string> &names,
+                                const std::vector<reduction::StaticSolution> &solutions)
+{
+  std::ostringstream csv;
+  csv << "load_case,s_m,N_N,Q_y_N,Q_z_N,T_Nm,M_y_Nm,M_z_Nm\n";
+  for (std::size_t i = 0; i < names.size(); ++i)
+    for (const auto &f : model.section_forces(solutions[i].u))
+      {
+        csv << names[i] << "," << io::csv_number(f.s);
+        for (const double v : f.values) csv << "," << io::csv_number(v);
+        csv << "\n";
+      }
+  return csv.str();
+}
+
+std::vector<std::string> case_names(const io::ArmScene &scene)
+{
+  std::vector<std::string> names;
+  for (const auto &c : scene.load_cases) names.push_back(c.name);
+  return names;
+}
+
+std::vector<Vector<double>> displacements(const std::vector<reduction::StaticSolution> &solutions)
+{
+  std::vector<Vector<double>> u;
+  for (const auto &s : solutions) u.push_back(s.u);
+  return u;
+}
 
 std::string vector_text(const Tensor<1, 3> &v, const int precision = 6)
 {
@@ -140,10 +176,14 @@ template <typename Model>
 std::vector<reduction::StaticSolution> solve_cases(const Model &model, const io::ArmScene &scene, Report &report,
                                                    TimerOutput &timer)
 {
-  std::vector<Vector<double>> loads;
+  std::vector<Vector<double>> loads, settlements;
   {
     TimerOutput::Scope t(timer, "assemble loads");
-    for (const auto &c : scene.load_cases) loads.push_back(model.load_vector(c));
+    for (const auto &c : scene.load_cases)
+      {
+        loads.push_back(model.load_vector(c));
+        settlements.push_back(model.support_displacements(c));
+      }
   }
   report.n_cells = model.n_cells();
   report.n_dofs = model.n_dofs();
@@ -153,7 +193,7 @@ std::vector<reduction::StaticSolution> solve_cases(const Model &model, const io:
             << std::endl;
   TimerOutput::Scope t(timer, "factorise and solve");
   const reduction::StaticSolver solver(model.stiffness_matrix(), model.constraints());
-  const auto solutions = solver.solve(loads);
+  const auto solutions = solver.solve(loads, settlements);
   for (std::size_t i = 0; i < solutions.size(); ++i)
     {
       CaseResult r;
@@ -170,11 +210,13 @@ Report arm_statics(const io::ArmScene &scene, TimerOutput &timer)
   Report report;
   const std::vector<double> points =
     scene.statics.points.empty() ? std::vector<double>{scene.arm.curve->length()} : scene.statics.points;
-  const fem::Arm arm = fem::with_load_stations(scene.arm, scene.load_cases, points);
-  std::unique_ptr<fem::CurvedBeamModel> model;
+  // Shared with report.write_fields, which draws the solutions after every case is solved.
+  const auto meshed = std::make_shared<const fem::Arm>(fem::with_load_stations(scene.arm, scene.load_cases, points));
+  const fem::Arm &arm = *meshed;
+  std::shared_ptr<const fem::CurvedBeamModel> model;
   {
     TimerOutput::Scope t(timer, "assemble K");
-    model = std::make_unique<fem::CurvedBeamModel>(arm, 0, false);
+    model = std::make_shared<const fem::CurvedBeamModel>(arm, 0, false);
   }
   if (model->constraints().n_constraints() == 0)
     throw InputError("Arm/Supports", "the arm has no support: it moves freely under a static load; clamp or pin it");
@@ -205,16 +247,22 @@ Report arm_statics(const io::ArmScene &scene, TimerOutput &timer)
       r.applied = scene.load_cases[i].resultant_on(arm);
       r.reactions = model->vertex_resultant(solutions[i].reaction);
     }
+  const unsigned int subdivisions = scene.output.subdivisions;
+  report.write_fields = [meshed, model, solutions, names = case_names(scene), subdivisions](io::OutputFolder &out) {
+    out.add_text("section_forces.csv", section_force_table(*model, names, solutions));
+    io::write_static_fields(out, *model, names, displacements(solutions), subdivisions);
+  };
+  report.files = ", section_forces.csv, static.pvd";
   return report;
 }
 
 Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
 {
   Report report;
-  std::unique_ptr<fem::SolidModel> model;
+  std::shared_ptr<const fem::SolidModel> model;
   {
     TimerOutput::Scope t(timer, "assemble K");
-    model = std::make_unique<fem::SolidModel>(scene.solid, 0, false);
+    model = std::make_shared<const fem::SolidModel>(scene.solid, 0, false);
   }
   if (model->constraints().n_constraints() == 0)
     throw InputError("Solid/Supports", "the solid has no support: it moves freely under a static load; fix a node "
@@ -229,6 +277,8 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
           if (std::find(sets.begin(), sets.end(), f.node_set) == sets.end()) sets.push_back(f.node_set);
         for (const auto &m : c.node_set_moments)
           if (std::find(sets.begin(), sets.end(), m.node_set) == sets.end()) sets.push_back(m.node_set);
+        for (const auto &p : c.pressures)
+          if (std::find(sets.begin(), sets.end(), p.node_set) == sets.end()) sets.push_back(p.node_set);
       }
   for (const auto &set : sets)
     {
@@ -249,6 +299,12 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
       r.applied = model->nodal_resultant(model->load_vector(scene.load_cases[i]));
       r.reactions = model->nodal_resultant(solutions[i].reaction);
     }
+  const unsigned int subdivisions = std::min(scene.output.subdivisions, 2u);
+  report.write_fields = [model, solutions, material = scene.solid.material, names = case_names(scene),
+                         subdivisions](io::OutputFolder &out) {
+    io::write_static_fields(out, *model, material, names, displacements(solutions), subdivisions);
+  };
+  report.files = ", static.pvd";
   return report;
 }
 
@@ -452,6 +508,7 @@ int static_command(const Options &options, const io::SceneFile &file)
   {
     TimerOutput::Scope t(timer, "write output");
     out.add_text("static.csv", csv_table(report));
+    report.write_fields(out);
     out.add_parameters(prm);
     io::JsonObject summary;
     summary.add("program", "flextrack " FLEXTRACK_VERSION)
@@ -471,7 +528,7 @@ int static_command(const Options &options, const io::SceneFile &file)
   out.commit();
   std::cout << "\n";
   print_timings(clock);
-  std::cout << "  results in " << out.path() << "/ (static.csv, summary.json)" << std::endl;
+  std::cout << "  results in " << out.path() << "/ (static.csv, summary.json" << report.files << ")" << std::endl;
   return 0;
 }
 } // namespace flextrack::app

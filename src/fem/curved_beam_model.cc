@@ -9,6 +9,7 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 
+#include <algorithm>
 #include <array>
 
 namespace flextrack::fem
@@ -58,6 +59,77 @@ catch (const geometry::FrameError &e)
 
 void CurvedBeamModel::setup_dofs() { dofs.distribute_dofs(fe); }
 
+std::array<double, 6> CurvedBeamModel::section_stiffness() const
+{
+  const Material &m = description.material;
+  const CrossSection &x = description.section;
+  return {{m.youngs_modulus * x.area, x.shear_factor_y * m.shear_modulus * x.area,
+           x.shear_factor_z * m.shear_modulus * x.area, m.shear_modulus * x.torsion_constant,
+           m.youngs_modulus * x.inertia_y, m.youngs_modulus * x.inertia_z}};
+}
+
+SectionForces CurvedBeamModel::section_forces_in(const DoFHandler<1, 3>::active_cell_iterator &cell, const double xi,
+                                                 const Vector<double> &u) const
+{
+  const auto [s0, s1] = mesh.cell_arc_lengths(cell);
+  const double h = s1 - s0;
+  const SectionAxes a = section_axes(description, s0 + h * xi);
+  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+  cell->get_dof_indices(local);
+  std::array<double, 6> e{};
+  for (unsigned int i = 0; i < local.size(); ++i)
+    {
+      const unsigned int c = fe.system_to_component_index(i).first;
+      const auto B = strains(a, c, fe.shape_value_component(i, Point<1>(xi), c),
+                             fe.shape_grad_component(i, Point<1>(xi), c)[0] / h);
+      for (unsigned int k = 0; k < 6; ++k) e[k] += B[k] * u[local[i]];
+    }
+  const auto D = section_stiffness();
+  SectionForces f;
+  f.s = s0 + h * xi;
+  for (unsigned int k = 0; k < 6; ++k) f.values[k] = D[k] * e[k];
+  return f;
+}
+
+std::vector<SectionForces> CurvedBeamModel::section_forces(const Vector<double> &u) const
+{
+  // Per cell in the order of s: its start, its p Gauss points (the reduced rule of the stiffness,
+  // where the section forces are most accurate) and its end.
+  std::vector<std::pair<double, DoFHandler<1, 3>::active_cell_iterator>> cells;
+  for (const auto &cell : dofs.active_cell_iterators()) cells.emplace_back(mesh.cell_arc_lengths(cell).first, cell);
+  std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
+  const QGauss<1> rule(description.degree);
+  std::vector<SectionForces> samples;
+  for (const auto &[s0, cell] : cells)
+    {
+      samples.push_back(section_forces_in(cell, 0.0, u));
+      for (unsigned int q = 0; q < rule.size(); ++q) samples.push_back(section_forces_in(cell, rule.point(q)[0], u));
+      samples.push_back(section_forces_in(cell, 1.0, u));
+    }
+  return samples;
+}
+
+Vector<double> CurvedBeamModel::section_force_field(const Vector<double> &u) const
+{
+  // Each cell's values at its nodes, averaged where cells meet (a point load's jump in the
+  // shear force is drawn as a linear change over the neighbouring cells).
+  Vector<double> field(dofs.n_dofs()), count(dofs.n_dofs());
+  const auto &points = fe.get_unit_support_points();
+  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      cell->get_dof_indices(local);
+      for (unsigned int i = 0; i < local.size(); ++i)
+        {
+          const unsigned int c = fe.system_to_component_index(i).first;
+          field[local[i]] += section_forces_in(cell, points[i][0], u).values[c];
+          count[local[i]] += 1;
+        }
+    }
+  for (unsigned int i = 0; i < field.size(); ++i) field[i] /= count[i];
+  return field;
+}
+
 void CurvedBeamModel::apply_supports()
 {
   // Each support station is a mesh vertex; fix its 3 displacements (pinned) or all 6 dofs.
@@ -89,12 +161,9 @@ void CurvedBeamModel::assemble()
   stiffness.reinit(pattern);
   mass.reinit(pattern);
 
-  const Material &m = description.material;
   const CrossSection &x = description.section;
-  const std::array<double, 6> D = {{m.youngs_modulus * x.area, x.shear_factor_y * m.shear_modulus * x.area,
-                                    x.shear_factor_z * m.shear_modulus * x.area, m.shear_modulus * x.torsion_constant,
-                                    m.youngs_modulus * x.inertia_y, m.youngs_modulus * x.inertia_z}};
-  const double rho = m.density;
+  const std::array<double, 6> D = section_stiffness();
+  const double rho = description.material.density;
 
   const unsigned int p = description.degree, n = fe.n_dofs_per_cell();
   const QGauss<1> stiffness_rule(p), mass_rule(p + 1);
@@ -311,6 +380,20 @@ Vector<double> CurvedBeamModel::load_vector(const LoadCase &load_case) const
     add_line_load(0, description.curve->length(),
                   description.material.density * description.section.area * load_case.gravity, f);
   return f;
+}
+
+Vector<double> CurvedBeamModel::support_displacements(const LoadCase &load_case) const
+{
+  Vector<double> g(dofs.n_dofs());
+  for (const auto &d : load_case.support_displacements)
+    {
+      const unsigned int vertex = mesh.vertex_at(d.s);
+      for (const auto &cell : dofs.active_cell_iterators())
+        for (unsigned int v = 0; v < 2; ++v)
+          if (cell->vertex_index(v) == vertex)
+            for (unsigned int c = 0; c < d.value.size(); ++c) g[cell->vertex_dof_index(v, c)] = d.value[c];
+    }
+  return g;
 }
 
 Resultant CurvedBeamModel::vertex_resultant(const Vector<double> &r) const

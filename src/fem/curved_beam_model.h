@@ -26,8 +26,20 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <array>
+#include <vector>
+
 namespace flextrack::fem
 {
+/// Section forces at arc length s [m], in the section frame (t, y, z): the axial force N, the
+/// shear forces Q_y, Q_z [N], the torque T and the bending moments M_y, M_z [N m]; the forces
+/// the part beyond s exerts on the part before it (N > 0 in tension).
+struct SectionForces
+{
+  double s = 0;
+  std::array<double, 6> values{}; ///< N, Q_y, Q_z, T, M_y, M_z
+};
+
 class CurvedBeamModel
 {
 public:
@@ -67,11 +79,26 @@ public:
   void add_line_load(double s0, double s1, const dealii::Tensor<1, 3> &q, dealii::Vector<double> &f) const;
   /// The nodal load vector of a load case (point and line loads, gravity on rho A).
   dealii::Vector<double> load_vector(const LoadCase &load_case) const;
+  /// The prescribed values of a load case's support displacements at their dofs (u, and theta
+  /// where given), zero elsewhere: the inhomogeneous supports of a static solve.
+  dealii::Vector<double> support_displacements(const LoadCase &load_case) const;
+  /// Section forces D (Gamma, kappa) of the solution @p u along the arm, in the order of s: per
+  /// cell at its start, its p Gauss points and its end (a jump at a point load shows as two
+  /// samples at the same s).
+  std::vector<SectionForces> section_forces(const dealii::Vector<double> &u) const;
+  /// The section forces as a field on dof_handler() (components N, Q_y, Q_z, T, M_y, M_z in
+  /// the places of u and theta): each cell's values at its nodes, averaged where cells meet.
+  dealii::Vector<double> section_force_field(const dealii::Vector<double> &u) const;
   /// Resultant about the origin of nodal forces @p r at the mesh vertices (reactions: the
   /// supports are vertices): sum of the forces, sum of x_k x F_k plus the nodal moments.
   Resultant vertex_resultant(const dealii::Vector<double> &r) const;
 
 private:
+  /// D = diag(EA, k_y GA, k_z GA, GJ, E I_y, E I_z).
+  std::array<double, 6> section_stiffness() const;
+  /// Section forces at reference coordinate @p xi of @p cell.
+  SectionForces section_forces_in(const dealii::DoFHandler<1, 3>::active_cell_iterator &cell, double xi,
+                                  const dealii::Vector<double> &u) const;
   /// The cell holding arc length s, and s's reference coordinate in it.
   std::pair<dealii::DoFHandler<1, 3>::active_cell_iterator, double> locate(double s) const;
   /// Components c0, c0 + 1, c0 + 2 of the field @p u at arc length @p s.

@@ -22,6 +22,9 @@ const geometry::NumberRange force_range{-1e12, 1e12, true, "N"};
 const geometry::NumberRange moment_range{-1e12, 1e12, true, "N m"};
 const geometry::NumberRange line_load_range{-1e12, 1e12, true, "N/m"};
 const geometry::NumberRange gravity_range{-1e6, 1e6, true, "m/s^2"};
+const geometry::NumberRange pressure_range{-1e12, 1e12, true, "Pa"};
+const geometry::NumberRange support_displacement_range{-1e6, 1e6, true, "m"};
+const geometry::NumberRange support_rotation_range{-1e6, 1e6, true, "rad"};
 
 std::string section_of(const std::string &name) { return "Load case " + name; }
 
@@ -126,6 +129,86 @@ LoadPoint load_point(const std::string &where, const std::string &entry, const s
                             "output point of the body: " + joined(names));
 }
 
+/// The support at arc length @p where of @p arm, which must fix at least the displacements;
+/// its prescribed u (3 numbers) or u and theta (6 numbers, a clamped support only).
+SupportDisplacement arm_support_displacement(const std::string &where, const std::string &value,
+                                            const std::string &entry, const Arm &arm)
+{
+  SupportDisplacement d;
+  d.label = base::trim(where);
+  d.s = arc_length(where, entry, "support displacement", arm);
+  const double L = arm.curve->length();
+  const Support *support = nullptr;
+  std::string allowed;
+  for (const auto &candidate : arm.supports)
+    if (candidate.kind != SupportKind::free)
+      {
+        std::ostringstream o;
+        o << std::setprecision(8) << candidate.s;
+        allowed += (allowed.empty() ? "" : ", ") + o.str();
+        if (std::abs(candidate.s - d.s) <= 1e-9 * L && (!support || candidate.kind == SupportKind::clamped))
+          support = &candidate;
+      }
+  if (!support)
+    throw InputError(entry, "there is no pinned or clamped support at s = " + base::printable_excerpt(where) +
+                              " m; allowed: the arc lengths [m] of the supports: " +
+                              (allowed.empty() ? "(none)" : allowed));
+  const auto w = base::words(value);
+  if (w.size() != 3 && !(w.size() == 6 && support->kind == SupportKind::clamped))
+    throw InputError(entry, "support displacement at s = " + d.label + " m: '" + base::printable_excerpt(value) +
+                              "'; allowed: 'ux uy uz' [m]" +
+                              (support->kind == SupportKind::clamped ? " or 'ux uy uz theta_x theta_y theta_z' [m, rad]"
+                                                                     : " (the support is pinned: no rotation)"));
+  for (std::size_t k = 0; k < w.size(); ++k)
+    {
+      const auto &range = k < 3 ? support_displacement_range : support_rotation_range;
+      d.value.push_back(geometry::checked_number(
+        base::parse_number(w[k], entry, "a component [" + range.unit + "]"), entry, range));
+    }
+  return d;
+}
+
+/// The support of @p solid written @p where (a node set name or a plane 'x = value', as in
+/// Solid/Supports) and its prescribed u (3 numbers, zero in the components it does not fix).
+SupportDisplacement solid_support_displacement(const std::string &where, const std::string &value,
+                                              const std::string &entry, const Solid &solid)
+{
+  SupportDisplacement d;
+  d.label = base::trim(where);
+  const Tensor<1, 3> u = vector3(value, entry, "support displacement", support_displacement_range);
+  const auto eq = d.label.find('=');
+  std::string upper = d.label;
+  for (auto &c : upper) c = std::toupper(static_cast<unsigned char>(c));
+  int axis = -1;
+  double position = 0;
+  if (eq != std::string::npos)
+    {
+      const std::string a = base::trim(d.label.substr(0, eq));
+      axis = a.size() == 1 && a[0] >= 'x' && a[0] <= 'z' ? a[0] - 'x' : -1;
+      position = base::parse_number(d.label.substr(eq + 1), entry, "the plane position [m]");
+    }
+  std::string allowed;
+  for (unsigned int k = 0; k < solid.supports.size(); ++k)
+    {
+      const auto &support = solid.supports[k];
+      allowed += (allowed.empty() ? "" : ", ") + support.text.substr(0, support.text.find(':'));
+      const bool same = support.plane_axis < 0
+                          ? eq == std::string::npos && support.node_set == upper
+                          : axis == support.plane_axis &&
+                              std::abs(position - support.plane_position) <= 1e-12 * std::max(1.0, std::abs(position));
+      if (!same) continue;
+      for (unsigned int c = 0; c < 3; ++c)
+        if (!support.fixed[c] && u[c] != 0)
+          throw InputError(entry, "the support '" + support.text + "' does not fix the " + std::string(1, "xyz"[c]) +
+                                    " component, so it cannot prescribe it; allowed: 0 there");
+      d.support = k;
+      d.value = {u[0], u[1], u[2]};
+      return d;
+    }
+  throw InputError(entry, "'" + base::printable_excerpt(where) + "' is not a support of the solid; allowed: " +
+                            (allowed.empty() ? "(the solid has no supports)" : allowed));
+}
+
 /// The ';'-separated items of an entry, at most max_load_items of them.
 std::vector<std::pair<std::string, std::string>> items(ParameterHandler &prm, const std::string &name,
                                                        const std::string &entry, const std::string &form)
@@ -180,6 +263,17 @@ void LoadCase::declare_parameters(ParameterHandler &prm, const std::vector<std::
                         "that moment and no resultant force (a torque gives shear tractions growing with the "
                         "distance from the centroid, a bending moment a linear normal stress), consistent nodal "
                         "weights; a set without a whole face gets nodal forces lambda x r_i. At most 1000.");
+      prm.declare_entry("Pressures", "", dealii::Patterns::Anything(),
+                        "Solid: pressures on node sets, separated by ';': 'SET: p' [Pa], at most 1e12 Pa in size, on "
+                        "the boundary faces whose corners all belong to the set: the traction -p n (n the outward "
+                        "normal of the curved face), so p > 0 pushes on the faces; consistent nodal weights. At "
+                        "most 1000.");
+      prm.declare_entry("Support displacements", "", dealii::Patterns::Anything(),
+                        "Prescribed displacements of supports (settlements), separated by ';'. Arm: 'S: ux uy uz' "
+                        "[m] at the pinned or clamped support at arc length S [m], or 'S: ux uy uz theta_x theta_y "
+                        "theta_z' [m, rad] at a clamped one. Solid: 'SUPPORT: ux uy uz' [m] with SUPPORT a node set "
+                        "or plane of Solid/Supports, a value only in the components it fixes. Global axes, each "
+                        "value at most 1e6 in size; supports not listed stay at zero. At most 1000.");
       prm.declare_entry("Gravity", "0, 0, 0", dealii::Patterns::Anything(),
                         "Acceleration of gravity 'gx, gy, gz' [m/s^2], each component at most 1e6 m/s^2 in size; "
                         "it loads the structure with its weight (density times volume).");
@@ -241,6 +335,22 @@ LoadCase LoadCase::parse_parameters(ParameterHandler &prm, const std::string &na
   for (const auto &[set, value] : items(prm, "Node set moments", moment_entry, "SET: Mx My Mz"))
     c.node_set_moments.push_back(
       {node_set(set, moment_entry, solid), vector3(value, moment_entry, "node set moment", moment_range)});
+  const std::string pressure_entry = path + "Pressures";
+  for (const auto &[set, value] : items(prm, "Pressures", pressure_entry, "SET: p"))
+    c.pressures.push_back({node_set(set, pressure_entry, solid),
+                           geometry::checked_number(base::parse_number(value, pressure_entry, "a pressure [Pa]"),
+                                                    pressure_entry, pressure_range)});
+  const std::string support_entry = path + "Support displacements";
+  for (const auto &[where, value] : items(prm, "Support displacements", support_entry, arm ? "S: ux uy uz" : "SUPPORT: ux uy uz"))
+    {
+      if (arm)
+        c.support_displacements.push_back(arm_support_displacement(where, value, support_entry, *arm));
+      else if (solid && !body)
+        c.support_displacements.push_back(solid_support_displacement(where, value, support_entry, *solid));
+      else
+        throw InputError(support_entry, "support displacements apply to 'Model = arm' and 'Model = solid' scenes; a "
+                                        "body is held at its interfaces");
+    }
   const auto g = base::parse_vector3(prm.get("Gravity"), path + "Gravity", "m/s^2");
   for (unsigned int d = 0; d < 3; ++d) c.gravity[d] = geometry::checked_number(g[d], path + "Gravity", gravity_range);
   prm.leave_subsection();

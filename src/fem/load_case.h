@@ -14,6 +14,8 @@
 //     set Gravity       = 0, 0, -9.81          # [m/s^2], acts on the density of the material
 //     set Node set forces = XMAX: 0 0 -100     # solid: total force [N] on a node set
 //     set Node set moments = XMAX: 10 0 0      # solid: moment [N m] about the set's centroid
+//     set Pressures = XMAX: 1e6                # solid: pressure [Pa] on the set's faces
+//     set Support displacements = 0: 0 0 -1e-3 # arm: S: ux uy uz [theta]; solid: SUPPORT: ux uy uz
 //   end
 // In a body scene ('Model = body') a point load acts at 'ARM S' (an arm of the body and an arc
 // length on it) or at 'NAME' (an interface or output point of the body), a line load on
@@ -83,6 +85,27 @@ struct NodeSetMoment
   dealii::Tensor<1, 3> moment;
 };
 
+/// A pressure p [Pa] on the boundary faces of a solid's node set (the faces whose corners all
+/// belong to the set): the traction -p n with n the outward normal, so p > 0 pushes on the
+/// faces; consistent nodal weights on the curved 20-node faces.
+struct NodeSetPressure
+{
+  std::string node_set; ///< upper case
+  double pressure = 0;
+};
+
+/// A prescribed displacement of a support (non-zero support displacement, e.g. a settlement):
+/// an arm scene's support at arc length s gets u [m] (three values; a clamped support may also
+/// take the rotation theta [rad], six values); a solid scene's support (a node set or a plane of
+/// Solid/Supports) gets u [m] in the components it fixes. Global axes.
+struct SupportDisplacement
+{
+  double s = 0;             ///< arm: the support's arc length [m]
+  unsigned int support = 0; ///< solid: index in Solid::supports
+  std::vector<double> value; ///< 3 (u) or 6 (u, theta) numbers
+  std::string label;        ///< as written, for messages
+};
+
 /// Force [N] and moment [N m] about the origin of a system of loads (or reactions).
 struct Resultant
 {
@@ -96,6 +119,8 @@ struct LoadCase
   std::vector<ArmLineLoad> line_loads;
   std::vector<NodeSetForce> node_set_forces;
   std::vector<NodeSetMoment> node_set_moments;
+  std::vector<NodeSetPressure> pressures;
+  std::vector<SupportDisplacement> support_displacements;
   dealii::Tensor<1, 3> gravity; ///< [m/s^2]
 
   /// Declares "subsection Load case NAME" for each of @p names.

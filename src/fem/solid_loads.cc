@@ -4,6 +4,7 @@
 // isoparametric elements represent rigid motions exactly, so the resultant of a nodal load
 // vector equals that of the distributed load it stands for, and reactions balance loads to
 // round-off.
+#include <base/input_error.h>
 #include <fem/solid_loads.h>
 #include <fem/solid_model.h>
 
@@ -153,6 +154,29 @@ Vector<double> SolidModel::load_vector(const LoadCase &load_case) const
             }
         }
     }
+  for (const auto &load : load_case.pressures)
+    {
+      const auto faces = faces_of(dofs, body.mesh->node_sets.at(load.node_set));
+      if (faces.empty())
+        throw InputError("Load case " + load_case.name + "/Pressures",
+                         "node set '" + load.node_set + "' holds no whole boundary face (a face whose corners all "
+                         "belong to the set), so a pressure has nothing to act on; allowed: a set of boundary faces, "
+                         "or 'Node set forces' for points and edges");
+      // t = -p n on the curved faces (n outward, from the 20-node map): f_i = int_faces N_i t dA.
+      const QGauss<2> rule(body.gauss_points);
+      FEFaceValues<3> values(*map, *fe, rule, update_values | update_JxW_values | update_normal_vectors);
+      for (const auto &[cell, face] : faces)
+        {
+          values.reinit(cell, face);
+          cell->get_dof_indices(local);
+          for (unsigned int q = 0; q < rule.size(); ++q)
+            {
+              const Tensor<1, 3> t = -load.pressure * values.normal_vector(q);
+              for (unsigned int i = 0; i < n; ++i)
+                f[local[i]] += t[fe->system_to_component_index(i).first] * values.shape_value(i, q) * values.JxW(q);
+            }
+        }
+    }
   if (load_case.gravity.norm() > 0)
     {
       const QGauss<3> rule(body.gauss_points);
@@ -172,16 +196,41 @@ Vector<double> SolidModel::load_vector(const LoadCase &load_case) const
   return f;
 }
 
+Vector<double> SolidModel::support_displacements(const LoadCase &load_case) const
+{
+  Assert(level == 0, ExcMessage("static loads on the unrefined mesh only"));
+  Vector<double> g(dofs.n_dofs());
+  if (load_case.support_displacements.empty()) return g;
+  const auto points = support_points();
+  const auto component = dof_components();
+  double size = 0;
+  for (const auto &v : body.mesh->triangulation.get_vertices()) size = std::max(size, v.norm());
+  for (const auto &d : load_case.support_displacements)
+    {
+      const SolidSupport &support = body.supports.at(d.support);
+      // The same dofs as SolidModel::apply_supports fixes for this support.
+      if (support.plane_axis >= 0)
+        {
+          for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+            if (std::abs(points[i][support.plane_axis] - support.plane_position) <= 1e-9 * std::max(size, 1.0) &&
+                support.fixed[component[i]])
+              g[i] = d.value[component[i]];
+        }
+      else
+        for (const auto &node : body.mesh->node_sets.at(support.node_set))
+          {
+            const auto at = node_dofs(node);
+            for (unsigned int c = 0; c < at.size(); ++c)
+              if (support.fixed[c]) g[at[c]] = d.value[c];
+          }
+    }
+  return g;
+}
+
 Resultant SolidModel::nodal_resultant(const Vector<double> &r) const
 {
   const auto points = support_points();
-  std::vector<unsigned int> component(dofs.n_dofs());
-  std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
-  for (const auto &cell : dofs.active_cell_iterators())
-    {
-      cell->get_dof_indices(local);
-      for (unsigned int i = 0; i < local.size(); ++i) component[local[i]] = fe->system_to_component_index(i).first;
-    }
+  const auto component = dof_components();
   Resultant total;
   for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
     {

@@ -161,6 +161,19 @@ std::vector<Point<3>> SolidModel::support_points() const
   return points;
 }
 
+std::vector<unsigned int> SolidModel::dof_components() const
+{
+  // From the cell-local numbering.
+  std::vector<unsigned int> component(dofs.n_dofs());
+  std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      cell->get_dof_indices(local);
+      for (unsigned int i = 0; i < local.size(); ++i) component[local[i]] = fe->system_to_component_index(i).first;
+    }
+  return component;
+}
+
 void SolidModel::apply_supports()
 {
   std::vector<Point<3>> points;
@@ -179,14 +192,7 @@ void SolidModel::apply_supports()
         {
           if (points.empty()) points = support_points();
           bool any = false;
-          // Component of every dof: from the cell-local numbering.
-          std::vector<unsigned int> component(dofs.n_dofs());
-          std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
-          for (const auto &cell : dofs.active_cell_iterators())
-            {
-              cell->get_dof_indices(local);
-              for (unsigned int i = 0; i < local.size(); ++i) component[local[i]] = fe->system_to_component_index(i).first;
-            }
+          const std::vector<unsigned int> component = dof_components();
           for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
             if (std::abs(points[i][support.plane_axis] - support.plane_position) <= 1e-9 * std::max(size, 1.0) &&
                 support.fixed[component[i]])

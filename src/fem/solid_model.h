@@ -54,12 +54,17 @@ public:
   /// Static loads (fem/solid_loads.cc, refinement 0): the nodal load vector of a load case's node
   /// set forces and gravity (rho g per volume); arm loads are not for solids.
   dealii::Vector<double> load_vector(const LoadCase &load_case) const;
+  /// The prescribed values of a load case's support displacements at the dofs their supports fix
+  /// (refinement 0), zero elsewhere: the inhomogeneous supports of a static solve.
+  dealii::Vector<double> support_displacements(const LoadCase &load_case) const;
   /// Resultant about the origin of the nodal forces @p r (at the dofs' support points).
   Resultant nodal_resultant(const dealii::Vector<double> &r) const;
   /// Mean displacement [m] of the nodes of node set @p set in the solution @p u.
   dealii::Tensor<1, 3> mean_displacement(const std::string &set, const dealii::Vector<double> &u) const;
 
 private:
+  /// The displacement component (0, 1, 2) of every dof.
+  std::vector<unsigned int> dof_components() const;
   void setup_geometry();
   void tabulate_node_dofs();
   void apply_supports();

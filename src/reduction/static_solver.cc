@@ -74,12 +74,28 @@ std::vector<long double> StaticSolver::accurate_residual(const dealii::Vector<do
   return r;
 }
 
-std::vector<StaticSolution> StaticSolver::solve(const std::vector<dealii::Vector<double>> &f) const
+std::vector<StaticSolution> StaticSolver::solve(const std::vector<dealii::Vector<double>> &f,
+                                               const std::vector<dealii::Vector<double>> &prescribed) const
 {
   const std::size_t n = K.m(), k = f.size();
-  std::vector<double> B(n * k), X(n * k);
+  // u = g + x: g the prescribed support displacements (zero at free dofs), x zero at the
+  // supports; K_ff x_f = f_f - (K g)_f. Scale of the residual test: the free rows' loads.
+  std::vector<dealii::Vector<double>> g(k, dealii::Vector<double>(n));
+  std::vector<double> B(n * k), X(n * k), scale(k, 0.0);
   for (std::size_t j = 0; j < k; ++j)
-    for (std::size_t i = 0; i < n; ++i) B[j * n + i] = fixed.is_constrained(i) ? 0.0 : f[j][i];
+    {
+      if (j < prescribed.size())
+        for (std::size_t i = 0; i < n; ++i)
+          if (fixed.is_constrained(i)) g[j][i] = prescribed[j][i];
+      dealii::Vector<double> Kg(n);
+      if (g[j].linfty_norm() > 0) K.vmult(Kg, g[j]);
+      for (std::size_t i = 0; i < n; ++i)
+        if (!fixed.is_constrained(i))
+          {
+            B[j * n + i] = f[j][i] - Kg[i];
+            scale[j] = std::max({scale[j], std::abs(f[j][i]), std::abs(Kg[i])});
+          }
+    }
   if (k > 0) factorization->solve_many(B.data(), X.data(), k);
 
   std::vector<StaticSolution> solutions(k);
@@ -87,9 +103,7 @@ std::vector<StaticSolution> StaticSolver::solve(const std::vector<dealii::Vector
     {
       auto &s = solutions[j];
       s.u.reinit(n);
-      for (std::size_t i = 0; i < n; ++i) s.u[i] = fixed.is_constrained(i) ? 0.0 : X[j * n + i];
-      double scale = 0;
-      for (std::size_t i = 0; i < n; ++i) scale = std::max(scale, std::abs(f[j][i]));
+      for (std::size_t i = 0; i < n; ++i) s.u[i] = fixed.is_constrained(i) ? g[j][i] : X[j * n + i];
       // Iterative refinement with residuals summed in long double: the reactions are K u - f
       // at the supports, and their resultant balances the loads up to R^T K u (the assembled K's
       // round-off on the rigid motions R, times u) plus the free rows of K u - f, the solve's
@@ -124,7 +138,7 @@ std::vector<StaticSolution> StaticSolver::solve(const std::vector<dealii::Vector
       long double energy = 0;
       for (std::size_t i = 0; i < n; ++i) energy += static_cast<long double>(s.u[i]) * (f[j][i] + r[i]);
       s.strain_energy = static_cast<double>(energy / 2);
-      s.residual = scale > 0 ? worst / scale : worst;
+      s.residual = scale[j] > 0 ? worst / scale[j] : worst;
       if (!(s.residual < 1e-4))
         {
           std::ostringstream m;

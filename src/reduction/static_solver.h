@@ -1,4 +1,5 @@
-// Linear static solutions K u = f of one FE model with fixed (homogeneous) supports, for many
+// Linear static solutions K u = f of one FE model with fixed supports (at zero or at prescribed
+// displacements), for many
 // load vectors with one sparse factorisation.
 //
 // The model's stiffness is given without its supports (K_free); the supported dofs are taken out
@@ -24,7 +25,8 @@ struct StaticSolution
   dealii::Vector<double> u;        ///< displacements (and rotations), zero at the supports
   dealii::Vector<double> reaction; ///< K_free u - f: support reactions (about 0 at free dofs)
   double strain_energy = 0;        ///< u^T K_free u / 2 [J]
-  /// max |K_free u - f| over the free dofs, relative to max |f| (0 for f = 0): the solve's accuracy.
+  /// max |K_free u - f| over the free dofs, relative to the largest free-row entry of f and of the
+  /// forces K_fs g of the prescribed support displacements g: the solve's accuracy.
   double residual = 0;
 };
 
@@ -36,7 +38,11 @@ public:
   StaticSolver(const dealii::TrilinosWrappers::SparseMatrix &K_free, const dealii::AffineConstraints<double> &supports);
   ~StaticSolver();
   /// One solution per load vector @p f (full length; loads on supported dofs go to the reactions).
-  std::vector<StaticSolution> solve(const std::vector<dealii::Vector<double>> &f) const;
+  /// @p prescribed: per load vector, the supported dofs' displacements (support settlements;
+  /// values at free dofs are ignored); empty: all supports hold at zero. With prescribed values g
+  /// the free dofs solve K_ff u_f = f_f - K_fs g.
+  std::vector<StaticSolution> solve(const std::vector<dealii::Vector<double>> &f,
+                                    const std::vector<dealii::Vector<double>> &prescribed = {}) const;
 
 private:
   /// Refinement steps at most (each one solve and one product; stops when the residual stops falling).

@@ -94,6 +94,9 @@ TEMPLATES = {
     "Point forces": [("arc length", "{v}: 0 0 1"), ("force", "1: {v} 0 0")],
     "Point moments": [("arc length", "{v}: 0 0 1"), ("moment", "1: {v} 0 0")],
     "Line loads": [("start", "{v} 2: 0 0 1"), ("load", "1 2: {v} 0 0")],
+    # the arm scene has no solid: every pressure is refused there, naming the entry
+    "Pressures": [("pressure", "XMAX: {v}")],
+    "Support displacements": [("arc length", "{v}: 0 0 0"), ("displacement", "0: {v} 0 0")],
 }
 # Context of an entry: (section path as printed, with "Arm" standing for "Arm" and "Arm NAME") ->
 # settings [(path below the arm or top section, entry, value)] that make the scene use the entry.
