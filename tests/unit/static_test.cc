@@ -270,6 +270,42 @@ std::vector<std::map<int, Tensor<1, 3>>> calculix_tip_displacements(const std::s
 }
 } // namespace
 
+TEST(ArmStatics, helical_spring_loaded_along_its_axis_matches_the_complementary_energy_formula)
+{
+  // Helix of radius R = 1 m, pitch h = 0.5 m, 3 turns around the z axis (from (R, 0, 0)), the
+  // wire of the explicit section above. The spring is loaded along its axis through rigid radial
+  // end arms: the start is clamped (its arm is fixed to the ground), and the force P e_z acts on
+  // the axis point a = (0, 0, z_end) above the wire's end x_end = (R, 0, z_end) (whole turns), i.e.
+  // at the wire's end the force P e_z and the moment (a - x_end) x P e_z = (0, R P, 0). The axis
+  // point moves along z by d = u_z(L) + (theta(L) x (a - x_end))_z = u_z(L) + R theta_y(L).
+  // Every section carries the torque P R cos(alpha), the bending moment P R sin(alpha), the axial
+  // force P sin(alpha) and the shear force P cos(alpha) (alpha the helix angle, tan(alpha) =
+  // h / (2 pi R)); the complementary energy gives (REFERENCES.md section 8)
+  //   d / P = l [R^2 (cos^2 alpha / GJ + sin^2 alpha / EI) + sin^2 alpha / EA + cos^2 alpha / (k G A)],
+  // l the wire's length. The arm model's energy has exactly these terms (D diagonal in the
+  // section frame), so the FE converges to it: 1e-5 relative (issue 12 acceptance) with 96 cubic
+  // elements (32 per turn).
+  const double R = 1, h = 0.5, turns = 3, P = 1000;
+  const double alpha = std::atan(h / (2 * M_PI * R)), l = turns * std::hypot(2 * M_PI * R, h);
+  const double ca = std::cos(alpha), sa = std::sin(alpha);
+  const double d = P * l * (R * R * (ca * ca / (G * J) + sa * sa / (E * I)) + sa * sa / (E * A) + ca * ca / (k * G * A));
+  std::ostringstream loads;
+  loads << std::setprecision(17) << "subsection Static\n set Load cases = axial\nend\n"
+        << "subsection Load case axial\n set Point forces = " << l << ": 0 0 " << P
+        << "\n set Point moments = " << l << ": 0 " << R * P << " 0\nend\n";
+  const Statics st(arm_text("  set Kind = helix\n  subsection Helix\n   set Radius = 1\n   set Pitch = 0.5\n"
+                            "   set Turns = 3\n  end\n",
+                            96, 3) +
+                   loads.str());
+  ASSERT_NEAR(st.arm.curve->length(), l, 1e-12 * l);
+  const double u_axis =
+    st.tip_displacement(0)[2] + R * st.model->rotation_at(st.arm.curve->length(), st.solutions[0].u)[1];
+  report("helical spring: axial d [m]", u_axis, d);
+  EXPECT_LT(relative(u_axis, d), 1e-5);
+  // Clapeyron: the strain energy is half the work of the load on the axis point's motion.
+  EXPECT_LT(relative(st.solutions[0].strain_energy, 0.5 * P * d), 1e-5);
+}
+
 TEST(SolidStatics, macneal_harder_straight_cantilever_equals_calculix_c3d20_on_the_same_mesh_and_loads)
 {
   // The MacNeal-Harder straight cantilever (6 x 1 x 1 hex20, full 3x3x3 integration) against
