@@ -279,6 +279,8 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
           if (std::find(sets.begin(), sets.end(), m.node_set) == sets.end()) sets.push_back(m.node_set);
         for (const auto &p : c.pressures)
           if (std::find(sets.begin(), sets.end(), p.node_set) == sets.end()) sets.push_back(p.node_set);
+        for (const auto &n : c.node_forces)
+          if (std::find(sets.begin(), sets.end(), n.node_set) == sets.end()) sets.push_back(n.node_set);
       }
   for (const auto &set : sets)
     {

@@ -256,6 +256,11 @@ void LoadCase::declare_parameters(ParameterHandler &prm, const std::vector<std::
                         "component at most 1e12 N in size. The force is spread as a uniform traction over the "
                         "boundary faces whose corners all belong to the set (consistent nodal weights), or in equal "
                         "shares over the set's nodes if it holds no whole face. At most 1000.");
+      prm.declare_entry("Node forces", "", dealii::Patterns::Anything(),
+                        "Solid: forces on every node of node sets, separated by ';': 'SET: Fx Fy Fz' [N] per node, "
+                        "global axes, each component at most 1e12 N in size (as CalculiX's *CLOAD on a node set: the "
+                        "total is the number of nodes times the force; for a traction use 'Node set forces'). At "
+                        "most 1000.");
       prm.declare_entry("Node set moments", "", dealii::Patterns::Anything(),
                         "Solid: moments on node sets, separated by ';': 'SET: Mx My Mz' [N m], global axes, about "
                         "the centroid of the set's boundary faces, each component at most 1e12 N m in size. Carried "
@@ -331,6 +336,9 @@ LoadCase LoadCase::parse_parameters(ParameterHandler &prm, const std::string &na
   const std::string set_entry = path + "Node set forces";
   for (const auto &[set, value] : items(prm, "Node set forces", set_entry, "SET: Fx Fy Fz"))
     c.node_set_forces.push_back({node_set(set, set_entry, solid), vector3(value, set_entry, "node set force", force_range)});
+  const std::string node_entry = path + "Node forces";
+  for (const auto &[set, value] : items(prm, "Node forces", node_entry, "SET: Fx Fy Fz"))
+    c.node_forces.push_back({node_set(set, node_entry, solid), vector3(value, node_entry, "node force", force_range)});
   const std::string moment_entry = path + "Node set moments";
   for (const auto &[set, value] : items(prm, "Node set moments", moment_entry, "SET: Mx My Mz"))
     c.node_set_moments.push_back(

@@ -14,6 +14,7 @@
 //     set Gravity       = 0, 0, -9.81          # [m/s^2], acts on the density of the material
 //     set Node set forces = XMAX: 0 0 -100     # solid: total force [N] on a node set
 //     set Node set moments = XMAX: 10 0 0      # solid: moment [N m] about the set's centroid
+//     set Node forces = XMAX: 0 0 -10          # solid: force [N] on every node of a set
 //     set Pressures = XMAX: 1e6                # solid: pressure [Pa] on the set's faces
 //     set Support displacements = 0: 0 0 -1e-3 # arm: S: ux uy uz [theta]; solid: SUPPORT: ux uy uz
 //   end
@@ -74,6 +75,14 @@ struct NodeSetForce
   dealii::Tensor<1, 3> force;
 };
 
+/// A force [N] (global axes) on every node of a solid's node set (as CalculiX's *CLOAD on a
+/// node set): the total is the number of the set's nodes times the force.
+struct NodeForce
+{
+  std::string node_set; ///< upper case
+  dealii::Tensor<1, 3> force;
+};
+
 /// A moment [N m] (global axes) on a solid's node set, about the centroid of the set's boundary
 /// faces: carried by the traction t(r) = lambda x r (r from the centroid, J lambda = M with J the
 /// faces' area inertia tensor int (|r|^2 1 - r r^T) dA), the smallest traction field with that
@@ -119,6 +128,7 @@ struct LoadCase
   std::vector<ArmLineLoad> line_loads;
   std::vector<NodeSetForce> node_set_forces;
   std::vector<NodeSetMoment> node_set_moments;
+  std::vector<NodeForce> node_forces;
   std::vector<NodeSetPressure> pressures;
   std::vector<SupportDisplacement> support_displacements;
   dealii::Tensor<1, 3> gravity; ///< [m/s^2]

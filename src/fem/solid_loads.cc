@@ -154,6 +154,10 @@ Vector<double> SolidModel::load_vector(const LoadCase &load_case) const
             }
         }
     }
+  for (const auto &load : load_case.node_forces)
+    for (const auto &node : body.mesh->node_sets.at(load.node_set))
+      if (const auto d = node_dofs(node); !d.empty())
+        for (unsigned int c = 0; c < 3; ++c) f[d[c]] += load.force[c];
   for (const auto &load : load_case.pressures)
     {
       const auto faces = faces_of(dofs, body.mesh->node_sets.at(load.node_set));

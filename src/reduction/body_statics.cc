@@ -65,13 +65,15 @@ Vector<double> BodyStatics::load_vector(const fem::LoadCase &load_case) const
     }
   // The solid: node set forces (its dofs come first in the full numbering, body_model.h).
   if (model.solid_model() &&
-      (!load_case.node_set_forces.empty() || !load_case.node_set_moments.empty() || !load_case.pressures.empty()))
+      (!load_case.node_set_forces.empty() || !load_case.node_set_moments.empty() || !load_case.pressures.empty() ||
+       !load_case.node_forces.empty()))
     {
       fem::LoadCase sets;
       sets.name = load_case.name;
       sets.node_set_forces = load_case.node_set_forces;
       sets.node_set_moments = load_case.node_set_moments;
       sets.pressures = load_case.pressures;
+      sets.node_forces = load_case.node_forces;
       const Vector<double> f_solid = model.solid_model()->load_vector(sets);
       for (unsigned int i = 0; i < f_solid.size(); ++i) f_full[i] += f_solid[i];
     }

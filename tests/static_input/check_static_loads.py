@@ -108,6 +108,11 @@ for case, shift in (("push", 0.0), ("stretch", -0.002)):
                  for v in data[n])
     check(f"block {case} VTU: largest other stress [Pa]", others, 0, 2e-7 * p, "0")
 
+entry = next(c for c in summary["load_cases"] if c["name"] == "nodes")
+check("block nodes: applied force x [N]", entry["applied_force_N"][0], -21 * 1000.0, 1e-12 * 21000,
+      "1 kN on each of the 21 nodes of a 2 x 2 hex20 face")
+check("block nodes: force imbalance [N]", entry["force_imbalance_N"], 0, 1e-9 * 21000, "equilibrium")
+
 if failures:
     sys.exit(f"{len(failures)} check(s) failed: {', '.join(failures)}")
 print("all checks passed")
