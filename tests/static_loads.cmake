@@ -20,3 +20,5 @@ flextrack_static_input_error(cli_bad_input_static_settlement_in_a_free_component
   "^flextrack: error: [^\n]*settlement_free_component.prm: entry 'Load case stretch/Support displacements': the support 'x = 0: x' does not fix the y component, so it cannot prescribe it; allowed: 0 there\n$")
 flextrack_static_input_error(cli_bad_input_static_pressure_without_faces pressure_on_an_edge.prm
   "^flextrack: error: [^\n]*pressure_on_an_edge.prm: entry 'Load case push/Pressures': node set 'EDGE' holds no whole boundary face.*allowed: a set of boundary faces")
+flextrack_static_input_error(cli_bad_input_static_iterative_solver_on_an_arm iterative_arm.prm
+  "^flextrack: error: [^\n]*iterative_arm.prm: entry 'Static/Linear solver': 'iterative' is for solid scenes; an arm's factor is small and exact: allowed here: 'direct'\n$")

@@ -63,6 +63,8 @@ struct Report
   /// Writes the fields of every case (VTU, and the arm's section_forces.csv) into the folder.
   std::function<void(io::OutputFolder &)> write_fields;
   std::string files; ///< what write_fields writes, for the last line of the log
+  std::string solver;
+  unsigned int cg_iterations = 0;
 };
 
 /// section_forces.csv of an arm: per case the section forces along s (fem::SectionForces).
@@ -174,7 +176,7 @@ std::string cases_json(const Report &report)
 /// Solves every load case on @p model and fills the common parts of the cases.
 template <typename Model>
 std::vector<reduction::StaticSolution> solve_cases(const Model &model, const io::ArmScene &scene, Report &report,
-                                                   TimerOutput &timer)
+                                                   TimerOutput &timer, reduction::StaticSolverSettings settings = {})
 {
   std::vector<Vector<double>> loads, settlements;
   {
@@ -191,9 +193,14 @@ std::vector<reduction::StaticSolution> solve_cases(const Model &model, const io:
   std::cout << "flextrack static: " << scene.file << "\n  " << report.description << ", " << report.n_dofs << " dofs ("
             << report.n_free_dofs << " free), " << loads.size() << " load case" << (loads.size() == 1 ? "" : "s")
             << std::endl;
-  TimerOutput::Scope t(timer, "factorise and solve");
-  const reduction::StaticSolver solver(model.stiffness_matrix(), model.constraints());
+  TimerOutput::Scope t(timer, settings.iterative ? "multigrid and CG solves" : "factorise and solve");
+  report.solver = settings.iterative ? "iterative (CG + algebraic multigrid)" : "direct (CHOLMOD)";
+  const reduction::StaticSolver solver(model.stiffness_matrix(), model.constraints(), std::move(settings));
   const auto solutions = solver.solve(loads, settlements);
+  report.cg_iterations = solver.iterations();
+  if (report.cg_iterations > 0)
+    std::cout << "  conjugate gradients: " << report.cg_iterations << " iterations for " << loads.size()
+              << " load case" << (loads.size() == 1 ? "" : "s") << std::endl;
   for (std::size_t i = 0; i < solutions.size(); ++i)
     {
       CaseResult r;
@@ -218,6 +225,9 @@ Report arm_statics(const io::ArmScene &scene, TimerOutput &timer)
     TimerOutput::Scope t(timer, "assemble K");
     model = std::make_shared<const fem::CurvedBeamModel>(arm, 0, false);
   }
+  if (scene.statics.solver == "iterative")
+    throw InputError("Static/Linear solver", "'iterative' is for solid scenes; an arm's factor is small and exact: "
+                                             "allowed here: 'direct'");
   if (model->constraints().n_constraints() == 0)
     throw InputError("Arm/Supports", "the arm has no support: it moves freely under a static load; clamp or pin it");
   std::ostringstream d;
@@ -262,7 +272,7 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
   std::shared_ptr<const fem::SolidModel> model;
   {
     TimerOutput::Scope t(timer, "assemble K");
-    model = std::make_shared<const fem::SolidModel>(scene.solid, 0, false);
+    model = std::make_shared<const fem::SolidModel>(scene.solid, 0, false, false); // no mass: statics
   }
   if (model->constraints().n_constraints() == 0)
     throw InputError("Solid/Supports", "the solid has no support: it moves freely under a static load; fix a node "
@@ -287,7 +297,12 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
       report.labels.push_back("node set " + set + " (mean u, best-fit rotation)");
       report.csv_fields.push_back(set);
     }
-  const auto solutions = solve_cases(*model, scene, report, timer);
+  reduction::StaticSolverSettings settings;
+  settings.iterative = scene.statics.solver == "iterative" ||
+                      (scene.statics.solver == "auto" && model->n_dofs() > fem::StaticSettings::iterative_above_dofs);
+  settings.tolerance = scene.statics.tolerance;
+  if (settings.iterative) settings.rigid_modes = model->rigid_body_modes();
+  const auto solutions = solve_cases(*model, scene, report, timer, std::move(settings));
   for (std::size_t i = 0; i < solutions.size(); ++i)
     {
       auto &r = report.cases[i];
@@ -332,6 +347,9 @@ BodyStaticScene read_body_static_scene(const io::SceneFile &file, ParameterHandl
   scene.reduction = reduction::ReductionSettings::parse_parameters(prm);
   scene.output = io::OutputSettings::parse_parameters(prm);
   scene.statics = fem::StaticSettings::parse_parameters(prm, nullptr, nullptr, &scene.body);
+  if (scene.statics.solver == "iterative")
+    throw InputError("Static/Linear solver", "'iterative' is for solid scenes; a body is solved twice with one "
+                                             "factor each: allowed here: 'direct'");
   for (const auto &name : scene.statics.load_cases)
     scene.load_cases.push_back(fem::LoadCase::parse_parameters(prm, name, nullptr, nullptr, &scene.body));
   if (scene.load_cases.empty())
@@ -520,6 +538,8 @@ int static_command(const Options &options, const io::SceneFile &file)
       .add("elements", report.n_cells)
       .add("degrees_of_freedom", report.n_dofs)
       .add("free_degrees_of_freedom", report.n_free_dofs)
+      .add("linear_solver", report.solver)
+      .add("cg_iterations", report.cg_iterations)
       .raw("load_cases", cases_json(report))
       .add("wall_time_s", io::timings_json(timer))
       .add("total_wall_time_s", clock.wall.wall_time())

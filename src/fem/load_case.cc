@@ -435,6 +435,17 @@ void StaticSettings::declare_parameters(ParameterHandler &prm)
                     "(s = L). Body: places 'ARM S' (an arm of the body, S [m] on it) or names of interfaces and "
                     "output points, separated by commas, where the full and the reduced body's displacements are "
                     "compared; empty: every interface, output point and point load. At most 1000.");
+  prm.declare_entry("Linear solver", "auto", dealii::Patterns::Selection("auto|direct|iterative"),
+                    "How K u = f is solved: 'direct' = sparse Cholesky factor (CHOLMOD), exact to round-off, one "
+                    "factor for all load cases; 'iterative' (solid scenes) = conjugate gradients with a "
+                    "smoothed-aggregation algebraic multigrid preconditioner (Trilinos ML, the rigid motions as "
+                    "its near-null space): a fraction of the factor's memory on large solids, each load case its "
+                    "own iteration, accurate to 'Solver tolerance'; 'auto' = iterative for solids of more than "
+                    "100000 degrees of freedom (where the factor needs gigabytes), direct otherwise.");
+  prm.declare_entry("Solver tolerance", "1e-10", dealii::Patterns::Double(),
+                    "Iterative solver: each conjugate-gradient solve stops when the residual's 2-norm is this "
+                    "fraction of the load's [-], 1e-14 to 1e-3 (the residual of a double-precision K u stalls "
+                    "near 1e-12).");
   prm.declare_entry("Node sets", "", dealii::Patterns::Anything(),
                     "Solid: node sets whose mean displacement [m] 'flextrack static' reports, separated by commas; "
                     "empty: the node sets that carry forces. At most 1000.");
@@ -450,6 +461,9 @@ StaticSettings StaticSettings::parse_parameters(ParameterHandler &prm, const Arm
   prm.enter_subsection("Static");
   const auto points = base::split(prm.get("Points"), ',');
   const auto sets = base::words(prm.get("Node sets"));
+  s.solver = prm.get("Linear solver");
+  s.tolerance = geometry::checked_number(prm.get_double("Solver tolerance"), "Static/Solver tolerance",
+                                         {1e-14, 1e-3, true, "-"});
   prm.leave_subsection();
   if (sets.size() > max_load_items)
     throw InputError("Static/Node sets", std::to_string(sets.size()) + " node sets; at most " +

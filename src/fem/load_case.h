@@ -158,6 +158,10 @@ struct StaticSettings
   std::vector<double> points; ///< arm: arc lengths [m]; empty = the end of the arm
   std::vector<LoadPoint> body_points; ///< body: 'ARM S' or interface / output points; empty: see static_command
   std::vector<std::string> node_sets; ///< solid: mean displacement reported; empty = the loaded sets
+  std::string solver = "auto"; ///< "direct", "iterative" (solids: CG with algebraic multigrid) or "auto"
+  /// Solids above this many dofs are solved iteratively with 'auto'.
+  static constexpr unsigned int iterative_above_dofs = 100000;
+  double tolerance = 1e-10;           ///< iterative: relative residual of each CG solve
 
   /// "Static/Load cases" alone (first pass of a scene, io/scene_file.cc).
   static void declare_load_case_list(dealii::ParameterHandler &prm);

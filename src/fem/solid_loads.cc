@@ -231,6 +231,25 @@ Vector<double> SolidModel::support_displacements(const LoadCase &load_case) cons
   return g;
 }
 
+std::vector<Vector<double>> SolidModel::rigid_body_modes() const
+{
+  const auto points = support_points();
+  const auto component = dof_components();
+  std::vector<Vector<double>> modes(6, Vector<double>(dofs.n_dofs()));
+  for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+    {
+      const unsigned int c = component[i];
+      modes[c][i] = 1;
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          Tensor<1, 3> axis;
+          axis[d] = 1;
+          modes[3 + d][i] = cross_product_3d(axis, Tensor<1, 3>(points[i]))[c];
+        }
+    }
+  return modes;
+}
+
 Resultant SolidModel::nodal_resultant(const Vector<double> &r) const
 {
   const auto points = support_points();

@@ -47,8 +47,9 @@ Point<3> coarse_coordinates(Triangulation<3>::cell_iterator cell, Point<3> p)
 }
 } // namespace
 
-SolidModel::SolidModel(const Solid &solid, const unsigned int refinement, const bool constrain_matrices)
-  : body(solid), level(refinement), constrained_assembly(constrain_matrices),
+SolidModel::SolidModel(const Solid &solid, const unsigned int refinement, const bool constrain_matrices,
+                       const bool with_mass)
+  : body(solid), level(refinement), constrained_assembly(constrain_matrices), assemble_mass(with_mass),
     tria(MPI_COMM_WORLD, Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis),
     geometry_fe(FE_Serendipity<3>(), 3), fe(make_element(solid.element))
 {
@@ -289,7 +290,7 @@ void SolidModel::assemble()
   }
   // M has K's pattern and shares K's graph (Epetra counts references): one copy of the column
   // indices instead of two, a third of a matrix.
-  mass.reinit(stiffness.trilinos_matrix(), false);
+  if (assemble_mass) mass.reinit(stiffness.trilinos_matrix(), false);
   base::release_free_heap();
 
   const Material &m = body.material;

@@ -34,7 +34,9 @@ public:
   /// The body's mesh refined @p refinement times (each cell split into 8). With
   /// @p constrain_matrices false the supports are only listed in constraints(), and K and M are
   /// those of the free body (a flexible body applies them with its ties, fem/body_model.h).
-  SolidModel(const Solid &solid, unsigned int refinement = 0, bool constrain_matrices = true);
+  /// With @p with_mass false, M is not assembled (mass_matrix() is empty): linear statics need K
+  /// only, and M would be a third of the memory before the factorisation.
+  SolidModel(const Solid &solid, unsigned int refinement = 0, bool constrain_matrices = true, bool with_mass = true);
 
   const dealii::DoFHandler<3> &dof_handler() const { return dofs; }
   const dealii::Mapping<3> &mapping() const { return *map; }
@@ -57,6 +59,9 @@ public:
   /// The prescribed values of a load case's support displacements at the dofs their supports fix
   /// (refinement 0), zero elsewhere: the inhomogeneous supports of a static solve.
   dealii::Vector<double> support_displacements(const LoadCase &load_case) const;
+  /// The six rigid motions (translations along x, y, z; small rotations about the x, y, z axes
+  /// through the origin) as dof vectors: the near-null space of the free body's K.
+  std::vector<dealii::Vector<double>> rigid_body_modes() const;
   /// Resultant about the origin of the nodal forces @p r (at the dofs' support points).
   Resultant nodal_resultant(const dealii::Vector<double> &r) const;
   /// Mean displacement [m] of the nodes of node set @p set in the solution @p u.
@@ -76,6 +81,7 @@ private:
   const Solid &body;
   unsigned int level;
   bool constrained_assembly;
+  bool assemble_mass;
   dealii::parallel::shared::Triangulation<3> tria;
   dealii::FESystem<3> geometry_fe;
   dealii::DoFHandler<3> geometry_dofs;

@@ -16,13 +16,14 @@ void add_symmetric_cell_matrices(FullMatrix<double> &k_cell, FullMatrix<double> 
         m_cell(j, i) = m_cell(i, j);
       }
   applied.distribute_local_to_global(k_cell, cell_dofs, K);
-  applied.distribute_local_to_global(m_cell, cell_dofs, M);
+  if (M.m() > 0) applied.distribute_local_to_global(m_cell, cell_dofs, M);
 }
 
 void finish_assembly(const AffineConstraints<double> &applied, TrilinosWrappers::SparseMatrix &K,
                      TrilinosWrappers::SparseMatrix &M)
 {
   K.compress(VectorOperation::add);
+  if (M.m() == 0) return; // a stiffness-only model
   M.compress(VectorOperation::add);
   for (const auto i : M.locally_owned_range_indices())
     if (applied.is_constrained(i)) M.set(i, i, 0.0);

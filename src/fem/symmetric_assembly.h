@@ -15,6 +15,7 @@ namespace flextrack::fem
 {
 /// Cell matrices integrated on their lower triangle (j <= i) only: mirrors both to the upper
 /// triangle, then adds them to @p K and @p M through @p applied (the supports, or no constraint).
+/// An empty @p M (0 rows: a model without mass, e.g. for statics) is left alone, here and below.
 void add_symmetric_cell_matrices(dealii::FullMatrix<double> &k_cell, dealii::FullMatrix<double> &m_cell,
                                  const std::vector<dealii::types::global_dof_index> &cell_dofs,
                                  const dealii::AffineConstraints<double> &applied,

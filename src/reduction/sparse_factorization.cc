@@ -1,4 +1,5 @@
 #include <base/memory.h>
+#include <base/solver_error.h>
 #include <reduction/modal_solver.h>
 #include <reduction/sparse_factorization.h>
 
@@ -45,14 +46,24 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
   factorize_with_amesos(method == "klu" ? "klu" : "mumps");
 }
 
+SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
+                                         const std::vector<bool> &fixed)
+{
+  if (!factorize_with_cholmod(K, K, 0.0, &fixed))
+    throw SolverError("the stiffness matrix with these supports is singular: the supports do not hold the structure "
+                      "against every rigid motion (a mechanism); add supports");
+}
+
 namespace
 {
 /// Calls @p use(i, j, a_ij) for every stored entry of the upper triangle (j >= i) of
 /// A = K - sigma M, by global indices, in no particular order within a row. M's pattern lies in
 /// K's (one sparsity pattern); M's row is scattered into @p scratch (n zeros on entry and exit).
+/// With @p fixed, the rows and columns of fixed dofs are left out but for their diagonal (kept
+/// if positive, 1 otherwise).
 template <typename Use>
 void for_each_upper_entry(const Epetra_CrsMatrix &k, const Epetra_CrsMatrix &m, const double sigma,
-                          std::vector<double> &scratch, Use &&use)
+                          std::vector<double> &scratch, const std::vector<bool> *fixed, Use &&use)
 {
   for (int r = 0; r < k.NumMyRows(); ++r)
     {
@@ -69,7 +80,16 @@ void for_each_upper_entry(const Epetra_CrsMatrix &k, const Epetra_CrsMatrix &m, 
       const int *m_columns = columns;
       k.ExtractMyRowView(r, count, values, columns);
       for (int c = 0; c < count; ++c)
-        if (const int j = k.ColMap().GID(columns[c]); j >= i) use(i, j, values[c] - sigma * scratch[j]);
+        if (const int j = k.ColMap().GID(columns[c]); j >= i)
+          {
+            const double a = values[c] - sigma * scratch[j];
+            if (!fixed)
+              use(i, j, a);
+            else if (i == j)
+              use(i, j, (*fixed)[i] && !(a > 0) ? 1.0 : a);
+            else if (!(*fixed)[i] && !(*fixed)[j])
+              use(i, j, a);
+          }
       for (int c = 0; c < n_m; ++c) scratch[m.ColMap().GID(m_columns[c])] = 0;
     }
 }
@@ -96,7 +116,8 @@ void sort_columns(cholmod_sparse *A)
 } // namespace
 
 bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
-                                                 const dealii::TrilinosWrappers::SparseMatrix &M, const double sigma)
+                                                 const dealii::TrilinosWrappers::SparseMatrix &M, const double sigma,
+                                                 const std::vector<bool> *fixed)
 {
   // Memory is the limit of large eigen solves (the factor is most of it), so CHOLMOD gets A
   // once: first the fill-reducing ordering P from A's pattern alone, then A already permuted,
@@ -114,7 +135,7 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
   auto compressed_columns = [&](const std::vector<int> &new_index, const int xtype) {
     std::fill(count.begin(), count.end(), 0);
     std::size_t nnz = 0;
-    for_each_upper_entry(k, m, 0.0, scratch, [&](int i, int j, double) {
+    for_each_upper_entry(k, m, 0.0, scratch, fixed, [&](int i, int j, double) {
       ++count[std::min(new_index[i], new_index[j])];
       ++nnz;
     });
@@ -124,7 +145,7 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
     start[0] = 0;
     for (int j = 0; j < n; ++j) start[j + 1] = start[j] + count[j];
     std::copy(start, start + n, count.begin()); // next free place in each column
-    for_each_upper_entry(k, m, values ? sigma : 0.0, scratch, [&](int i, int j, double a) {
+    for_each_upper_entry(k, m, values ? sigma : 0.0, scratch, fixed, [&](int i, int j, double a) {
       const int a_i = new_index[i], a_j = new_index[j];
       const int place = count[std::min(a_i, a_j)]++;
       rows[place] = std::max(a_i, a_j);

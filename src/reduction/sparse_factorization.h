@@ -25,6 +25,11 @@ public:
   /// assembled copy of A; the others keep a Trilinos copy of A. Throws SolverError if A is singular.
   SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
                       const dealii::TrilinosWrappers::SparseMatrix &M, double sigma, const std::string &method);
+  /// The Cholesky factor of K with the dofs of @p fixed held: their rows and columns left out but
+  /// for the diagonal (K_ii, or 1 where that is not positive), so that x = 0 there for b = 0
+  /// there. No copy of K is made. SolverError if that matrix is not positive definite (a
+  /// mechanism: the supports do not hold every rigid motion).
+  SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K, const std::vector<bool> &fixed);
   ~SparseFactorization();
   /// x = A^{-1} b for arrays of A.m() entries.
   void solve(const double *b, double *x) const;
@@ -43,7 +48,8 @@ private:
   std::unique_ptr<Cholmod> cholmod;
   /// Cholesky of A; false if A is not positive definite.
   bool factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
-                              const dealii::TrilinosWrappers::SparseMatrix &M, double sigma);
+                              const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,
+                              const std::vector<bool> *fixed = nullptr);
   void factorize_with_amesos(const std::string &method);
 };
 } // namespace flextrack::reduction

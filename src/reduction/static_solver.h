@@ -2,14 +2,17 @@
 // displacements), for many
 // load vectors with one sparse factorisation.
 //
-// The model's stiffness is given without its supports (K_free); the supported dofs are taken out
-// of a copy of it (rows and columns zeroed, the diagonal kept), which is factorised once by the
-// project's SparseFactorization (CHOLMOD). K_free itself stays for the reactions
+// The model's stiffness is given without its supports (K_free); the supported dofs' rows and
+// columns are left out (the diagonal kept) of the matrix that the project's SparseFactorization
+// (CHOLMOD) factorises once, built from K_free's rows without a copy of K; or, for solids too
+// large for a factor, K with the supports applied is solved by conjugate gradients with an
+// algebraic multigrid preconditioner (StaticSolverSettings::iterative). K_free itself stays for the reactions
 // r = K_free u - f at the supports and for the strain energy U = u^T K_free u / 2. Each solution
 // is refined with residuals summed in long double (the reactions' balance needs it).
 #pragma once
 
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
@@ -30,12 +33,30 @@ struct StaticSolution
   double residual = 0;
 };
 
+/// How the supported system is solved.
+struct StaticSolverSettings
+{
+  /// false: the sparse Cholesky factor (CHOLMOD), exact to round-off, one factor for every load
+  /// case. true: conjugate gradients preconditioned by smoothed-aggregation algebraic multigrid
+  /// (Trilinos ML), for solids too large for the factor's memory; every case its own iteration.
+  bool iterative = false;
+  /// Iterative: each CG solve stops at |r| <= tolerance |b| (2-norms over the free rows).
+  double tolerance = 1e-10;
+  /// Iterative: the rigid motions of the unsupported structure, the multigrid's near-null space
+  /// (without them aggregation-based AMG converges slowly on elasticity).
+  std::vector<dealii::Vector<double>> rigid_modes;
+  /// Iterative: CG iterations per solve at most (SolverError beyond).
+  unsigned int max_iterations = 5000;
+};
+
 class StaticSolver
 {
 public:
-  /// Factorises K_free with the dofs of @p supports fixed. SolverError if the supported
-  /// structure is singular (a mechanism: too few supports).
-  StaticSolver(const dealii::TrilinosWrappers::SparseMatrix &K_free, const dealii::AffineConstraints<double> &supports);
+  /// Factorises K_free with the dofs of @p supports fixed (or, iterative, builds the multigrid
+  /// hierarchy). SolverError if the supported structure is singular (a mechanism: too few
+  /// supports).
+  StaticSolver(const dealii::TrilinosWrappers::SparseMatrix &K_free, const dealii::AffineConstraints<double> &supports,
+               StaticSolverSettings settings = {});
   ~StaticSolver();
   /// One solution per load vector @p f (full length; loads on supported dofs go to the reactions).
   /// @p prescribed: per load vector, the supported dofs' displacements (support settlements;
@@ -44,7 +65,12 @@ public:
   std::vector<StaticSolution> solve(const std::vector<dealii::Vector<double>> &f,
                                     const std::vector<dealii::Vector<double>> &prescribed = {}) const;
 
+  /// CG iterations summed over every solve so far (0 for the direct solver).
+  unsigned int iterations() const { return cg_iterations; }
+
 private:
+  /// x = A^{-1} b for @p k right-hand sides (columns of length n), A the supported K.
+  void solve_supported(const double *b, double *x, std::size_t k) const;
   /// Refinement steps at most (each one solve and one product; stops when the residual stops falling).
   static constexpr unsigned int max_refinements = 3;
   /// K_free u - f, each row summed in long double.
@@ -52,6 +78,11 @@ private:
 
   const dealii::TrilinosWrappers::SparseMatrix &K;
   const dealii::AffineConstraints<double> &fixed;
+  StaticSolverSettings settings;
   std::unique_ptr<SparseFactorization> factorization;
+  std::unique_ptr<dealii::TrilinosWrappers::SparseMatrix> supported; ///< iterative: A itself
+  std::unique_ptr<dealii::TrilinosWrappers::PreconditionAMG> multigrid;
+  std::vector<double> null_space; ///< the rigid modes, one after the other (ML keeps a pointer)
+  mutable unsigned int cg_iterations = 0;
 };
 } // namespace flextrack::reduction

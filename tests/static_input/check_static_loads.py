@@ -28,10 +28,19 @@ def check(what, value, reference, tolerance, source):
         failures.append(what)
 
 
-def run(scene):
-    out = os.path.join(work, scene)
-    result = subprocess.run([exe, "static", os.path.join(scenes, scene + ".prm"), "-o", out],
-                            capture_output=True, text=True)
+def run(scene, solver=None):
+    """flextrack static on SCENE.prm, or on a copy of it with 'Static/Linear solver = SOLVER'."""
+    name = scene if solver is None else f"{scene}_{solver}"
+    out = os.path.join(work, name)
+    prm = os.path.join(scenes, scene + ".prm")
+    if solver is not None:
+        os.makedirs(work, exist_ok=True)
+        with open(prm) as f:
+            text = f.read().replace("subsection Static\n", f"subsection Static\n  set Linear solver = {solver}\n", 1)
+        prm = os.path.join(work, name + ".prm")
+        with open(prm, "w") as f:
+            f.write(text)
+    result = subprocess.run([exe, "static", prm, "-o", out], capture_output=True, text=True)
     print(result.stdout)
     if result.returncode != 0:
         sys.exit(f"flextrack static {scene} failed (exit {result.returncode}):\n{result.stderr}")
@@ -80,38 +89,43 @@ check("arm VTU: largest |u_y| [m]", max(abs(v) for v in vtu.point_data["displace
 # --- Block on rollers under a pressure (tests/static_input/pressure_block.prm) ----------------
 E, nu, p, size = 1e9, 0.3, 1e6, (2.0, 1.0, 1.0)
 V = size[0] * size[1] * size[2]
-out, summary, rows = run("pressure_block")
-for case, shift in (("push", 0.0), ("stretch", -0.002)):
-    row = next(r for r in rows if r["load_case"] == case and r["node_set"] == "XMAX")
-    # Mean over the face's nodes of u = (-p x / E + shift, nu p y / E, nu p z / E); the nodes of
-    # the 2 x 2 hex20 face are symmetric about y = z = 0.5, so the means are at y = z = 0.5.
-    scale = p * size[0] / E
-    check(f"block {case}: mean u_x on x = 2 [m]", float(row["mean_ux_m"]), -p * size[0] / E + shift, 1e-10 * scale,
-          "uniaxial stress, u_x = -p x / E")
-    check(f"block {case}: mean u_y on x = 2 [m]", float(row["mean_uy_m"]), nu * p * 0.5 / E, 1e-10 * scale,
-          "u_y = nu p y / E")
-    entry = next(c for c in summary["load_cases"] if c["name"] == case)
-    check(f"block {case}: strain energy [J]", entry["strain_energy_J"], p**2 * V / (2 * E), 1e-9 * p**2 * V / (2 * E),
-          "U = p^2 V / (2 E)")
-    check(f"block {case}: applied force x [N]", entry["applied_force_N"][0], -p * size[1] * size[2], 1e-9 * p,
-          "-p times the face's area")
-    check(f"block {case}: force imbalance [N]", entry["force_imbalance_N"], 0, 1e-9 * p, "equilibrium")
-    vtu = meshio.read(os.path.join(out, f"static_{case}.vtu"))
-    data = vtu.point_data
-    check(f"block {case} VTU: largest |stress_xx + p| [Pa]", max(abs(v + p) for v in data["stress_xx"]), 0, 2e-7 * p,
-          "sigma_xx = -p")
-    check(f"block {case} VTU: largest |von_mises - p| [Pa]", max(abs(v - p) for v in data["von_mises"]), 0, 2e-7 * p,
-          "von Mises = p")
-    check(f"block {case} VTU: largest |principal_3 + p| [Pa]", max(abs(v + p) for v in data["principal_3"]), 0,
-          2e-7 * p, "principal stresses 0, 0, -p")
-    others = max(abs(v) for n in ("stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_xz", "principal_1")
-                 for v in data[n])
-    check(f"block {case} VTU: largest other stress [Pa]", others, 0, 2e-7 * p, "0")
-
-entry = next(c for c in summary["load_cases"] if c["name"] == "nodes")
-check("block nodes: applied force x [N]", entry["applied_force_N"][0], -21 * 1000.0, 1e-12 * 21000,
-      "1 kN on each of the 21 nodes of a 2 x 2 hex20 face")
-check("block nodes: force imbalance [N]", entry["force_imbalance_N"], 0, 1e-9 * 21000, "equilibrium")
+# Both linear solvers: the Cholesky factor (round-off) and CG with algebraic multigrid (its
+# relative residual 1e-10, so the displacements to 1e-9 of their scale there).
+for solver, u_tolerance in (("direct", 1e-10), ("iterative", 1e-9)):
+    out, summary, rows = run("pressure_block", solver)
+    expected_solver = "direct (CHOLMOD)" if solver == "direct" else "iterative (CG + algebraic multigrid)"
+    if summary["linear_solver"] != expected_solver:
+        failures.append(f"linear solver {summary['linear_solver']!r}, expected {expected_solver!r}")
+    for case, shift in (("push", 0.0), ("stretch", -0.002)):
+        name = f"block {case} ({solver})"
+        row = next(r for r in rows if r["load_case"] == case and r["node_set"] == "XMAX")
+        # Mean over the face's nodes of u = (-p x / E + shift, nu p y / E, nu p z / E); the nodes
+        # of the 2 x 2 hex20 face are symmetric about y = z = 0.5, so the means are at y = z = 0.5.
+        scale = p * size[0] / E
+        check(f"{name}: mean u_x on x = 2 [m]", float(row["mean_ux_m"]), -p * size[0] / E + shift,
+              u_tolerance * scale, "uniaxial stress, u_x = -p x / E")
+        check(f"{name}: mean u_y on x = 2 [m]", float(row["mean_uy_m"]), nu * p * 0.5 / E, u_tolerance * scale,
+              "u_y = nu p y / E")
+        entry = next(c for c in summary["load_cases"] if c["name"] == case)
+        check(f"{name}: strain energy [J]", entry["strain_energy_J"], p**2 * V / (2 * E), 1e-9 * p**2 * V / (2 * E),
+              "U = p^2 V / (2 E)")
+        check(f"{name}: applied force x [N]", entry["applied_force_N"][0], -p * size[1] * size[2], 1e-9 * p,
+              "-p times the face's area")
+        check(f"{name}: force imbalance [N]", entry["force_imbalance_N"], 0, 1e-9 * p, "equilibrium")
+        data = meshio.read(os.path.join(out, f"static_{case}.vtu")).point_data
+        check(f"{name} VTU: largest |stress_xx + p| [Pa]", max(abs(v + p) for v in data["stress_xx"]), 0, 2e-7 * p,
+              "sigma_xx = -p")
+        check(f"{name} VTU: largest |von_mises - p| [Pa]", max(abs(v - p) for v in data["von_mises"]), 0, 2e-7 * p,
+              "von Mises = p")
+        check(f"{name} VTU: largest |principal_3 + p| [Pa]", max(abs(v + p) for v in data["principal_3"]), 0,
+              2e-7 * p, "principal stresses 0, 0, -p")
+        others = max(abs(v) for n in ("stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_xz", "principal_1")
+                     for v in data[n])
+        check(f"{name} VTU: largest other stress [Pa]", others, 0, 2e-7 * p, "0")
+    entry = next(c for c in summary["load_cases"] if c["name"] == "nodes")
+    check(f"block nodes ({solver}): applied force x [N]", entry["applied_force_N"][0], -21 * 1000.0, 1e-12 * 21000,
+          "1 kN on each of the 21 nodes of a 2 x 2 hex20 face")
+    check(f"block nodes ({solver}): force imbalance [N]", entry["force_imbalance_N"], 0, 1e-9 * 21000, "equilibrium")
 
 if failures:
     sys.exit(f"{len(failures)} check(s) failed: {', '.join(failures)}")

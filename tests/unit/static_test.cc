@@ -210,7 +210,8 @@ struct SolidStatics
   std::vector<dealii::Vector<double>> loads;
   std::vector<reduction::StaticSolution> solutions;
 
-  SolidStatics(const std::string &cells, const std::string &cases, const std::string &integration = "full")
+  SolidStatics(const std::string &cells, const std::string &cases, const std::string &integration = "full",
+               const bool iterative = false)
   {
     dealii::ParameterHandler prm;
     io::declare_arm_scene(prm);
@@ -222,8 +223,14 @@ struct SolidStatics
       prm);
     model = std::make_unique<fem::SolidModel>(scene.solid, 0, false);
     for (const auto &c : scene.load_cases) loads.push_back(model->load_vector(c));
-    solutions = reduction::StaticSolver(model->stiffness_matrix(), model->constraints()).solve(loads);
+    reduction::StaticSolverSettings settings;
+    settings.iterative = iterative;
+    if (iterative) settings.rigid_modes = model->rigid_body_modes();
+    const reduction::StaticSolver solver(model->stiffness_matrix(), model->constraints(), settings);
+    solutions = solver.solve(loads);
+    cg_iterations = solver.iterations();
   }
+  unsigned int cg_iterations = 0;
   /// Applied and reaction resultants of case @p c (nodal vectors, exact for isoparametric cells).
   std::pair<fem::Resultant, fem::Resultant> resultants(const unsigned int c) const
   {
@@ -445,6 +452,35 @@ TEST(SolidStatics, macneal_harder_straight_cantilever_converges_to_the_published
   EXPECT_NEAR(finest[1], 1, 5e-3);
   EXPECT_NEAR(finest[2], 1, 5e-3);
   EXPECT_NEAR(finest[3] * macneal_harder_reference[3] / saint_venant, 1, 1e-2);
+}
+
+TEST(SolidStatics, iterative_solver_matches_calculix_and_the_factor_on_the_macneal_harder_cantilever)
+{
+  // 'Static/Linear solver = iterative': CG with smoothed-aggregation multigrid (Trilinos ML, the
+  // rigid motions as near-null space), each solve to a relative residual of 1e-10.
+  // (1) 6 x 1 x 1 cells: the tip values of CalculiX's C3D20 on the same mesh and nodal loads
+  //     (ccx 2.20, recorded in doc/static.md; the test above runs ccx itself): 2.9826832e-5,
+  //     0.10488356, 0.41511324, 0.028996025 rad, to 2e-7 relative (ccx's printed digits).
+  // (2) 24 x 4 x 2 cells (cells 0.25 x 0.05 x 0.05 m, aspect ratio 5, two cells through the
+  //     depth: a hard case for aggregation multigrid), against the Cholesky solution of the same
+  //     K: 1e-8 relative. It converges, slowly: about 315 iterations per case (48 x 8 x 4: about
+  //     200; the 80 x 8 x 8 block of cubic cells of the benchmark: 52), which is why 'auto' keeps
+  //     the factor below 1e5 dofs.
+  const double calculix[] = {2.9826832e-5, 0.10488356, 0.41511324, 0.028996025};
+  const SolidStatics coarse("6, 1, 1", macneal_harder_cases, "full", true);
+  for (unsigned int c = 0; c < 4; ++c)
+    {
+      report(std::string("iterative, 6x1x1: ") + macneal_harder_names[c], coarse.tip(c), calculix[c]);
+      // ccx's twist comes from 7-digit nodal displacements: 1e-5 there, as in the test above.
+      EXPECT_LT(relative(coarse.tip(c), calculix[c]), c == 3 ? 1e-5 : 2e-7) << macneal_harder_names[c];
+    }
+  const SolidStatics direct("24, 4, 2", macneal_harder_cases), iterative("24, 4, 2", macneal_harder_cases, "full", true);
+  std::cout << "  24 x 4 x 2: " << iterative.cg_iterations << " CG iterations for 4 cases\n";
+  for (unsigned int c = 0; c < 4; ++c)
+    {
+      report(std::string("iterative vs direct, 24x4x2: ") + macneal_harder_names[c], iterative.tip(c), direct.tip(c));
+      EXPECT_LT(relative(iterative.tip(c), direct.tip(c)), 1e-8) << macneal_harder_names[c];
+    }
 }
 
 TEST(SolidStatics, reactions_balance_the_applied_loads_to_the_round_off_of_the_assembled_stiffness)
