@@ -17,7 +17,7 @@ endfunction()
 flextrack_static_input_error(cli_bad_input_static_settlement_without_support settlement_off_support.prm
   "^flextrack: error: [^\n]*settlement_off_support.prm: entry 'Load case settle/Support displacements': there is no pinned or clamped support at s = 1 m; allowed: the arc lengths \\[m\\] of the supports: 0, 2\n$")
 flextrack_static_input_error(cli_bad_input_static_settlement_in_a_free_component settlement_free_component.prm
-  "^flextrack: error: [^\n]*settlement_free_component.prm: entry 'Load case stretch/Support displacements': the support 'x = 0: x' does not fix the y component, so it cannot prescribe it; allowed: 0 there\n$")
+  "^flextrack: error: [^\n]*settlement_free_component.prm: entry 'Load case stretch/Support displacements': the support 'x = 0' does not fix the y component, so it cannot prescribe it; allowed: 0 there\n$")
 flextrack_static_input_error(cli_bad_input_static_pressure_without_faces pressure_on_an_edge.prm
   "^flextrack: error: [^\n]*pressure_on_an_edge.prm: entry 'Load case push/Pressures': node set 'EDGE' holds no whole boundary face.*allowed: a set of boundary faces")
 flextrack_static_input_error(cli_bad_input_static_iterative_solver_on_an_arm iterative_arm.prm

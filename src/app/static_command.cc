@@ -528,6 +528,7 @@ int static_command(const Options &options, const io::SceneFile &file)
   {
     TimerOutput::Scope t(timer, "write output");
     out.add_text("static.csv", csv_table(report));
+    io::remove_static_fields(out.path());
     report.write_fields(out);
     out.add_parameters(prm);
     io::JsonObject summary;

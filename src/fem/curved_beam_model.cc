@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 
 namespace flextrack::fem
 {
@@ -385,9 +386,15 @@ Vector<double> CurvedBeamModel::load_vector(const LoadCase &load_case) const
 Vector<double> CurvedBeamModel::support_displacements(const LoadCase &load_case) const
 {
   Vector<double> g(dofs.n_dofs());
+  std::map<unsigned int, const SupportDisplacement *> at_vertex; // one item per support station
   for (const auto &d : load_case.support_displacements)
     {
       const unsigned int vertex = mesh.vertex_at(d.s);
+      if (const auto it = at_vertex.find(vertex); it != at_vertex.end() && it->second->value != d.value)
+        throw InputError("Load case " + load_case.name + "/Support displacements",
+                         "'" + it->second->label + "' and '" + d.label +
+                           "' are the same support station with different displacements; allowed: one value per support");
+      at_vertex[vertex] = &d;
       for (const auto &cell : dofs.active_cell_iterators())
         for (unsigned int v = 0; v < 2; ++v)
           if (cell->vertex_index(v) == vertex)

@@ -187,7 +187,10 @@ SupportDisplacement solid_support_displacement(const std::string &where, const s
       axis = a.size() == 1 && a[0] >= 'x' && a[0] <= 'z' ? a[0] - 'x' : -1;
       position = base::parse_number(d.label.substr(eq + 1), entry, "the plane position [m]");
     }
+  // Every support written at this place (a place may be listed more than once, e.g.
+  // 'x = 0: x; x = 0: y'): the value may be non-zero only in the components one of them fixes.
   std::string allowed;
+  std::array<bool, 3> fixed{{false, false, false}};
   for (unsigned int k = 0; k < solid.supports.size(); ++k)
     {
       const auto &support = solid.supports[k];
@@ -197,11 +200,15 @@ SupportDisplacement solid_support_displacement(const std::string &where, const s
                           : axis == support.plane_axis &&
                               std::abs(position - support.plane_position) <= 1e-12 * std::max(1.0, std::abs(position));
       if (!same) continue;
+      d.supports.push_back(k);
+      for (unsigned int c = 0; c < 3; ++c) fixed[c] = fixed[c] || support.fixed[c];
+    }
+  if (!d.supports.empty())
+    {
       for (unsigned int c = 0; c < 3; ++c)
-        if (!support.fixed[c] && u[c] != 0)
-          throw InputError(entry, "the support '" + support.text + "' does not fix the " + std::string(1, "xyz"[c]) +
+        if (!fixed[c] && u[c] != 0)
+          throw InputError(entry, "the support '" + d.label + "' does not fix the " + std::string(1, "xyz"[c]) +
                                     " component, so it cannot prescribe it; allowed: 0 there");
-      d.support = k;
       d.value = {u[0], u[1], u[2]};
       return d;
     }
@@ -259,8 +266,8 @@ void LoadCase::declare_parameters(ParameterHandler &prm, const std::vector<std::
       prm.declare_entry("Node forces", "", dealii::Patterns::Anything(),
                         "Solid: forces on every node of node sets, separated by ';': 'SET: Fx Fy Fz' [N] per node, "
                         "global axes, each component at most 1e12 N in size (as CalculiX's *CLOAD on a node set: the "
-                        "total is the number of nodes times the force; for a traction use 'Node set forces'). At "
-                        "most 1000.");
+                        "total is the number of nodes times the force; with 'Element = hex8' only the corner nodes "
+                        "carry it; for a traction use 'Node set forces'). At most 1000.");
       prm.declare_entry("Node set moments", "", dealii::Patterns::Anything(),
                         "Solid: moments on node sets, separated by ';': 'SET: Mx My Mz' [N m], global axes, about "
                         "the centroid of the set's boundary faces, each component at most 1e12 N m in size. Carried "
@@ -444,8 +451,8 @@ void StaticSettings::declare_parameters(ParameterHandler &prm)
                     "100000 degrees of freedom (where the factor needs gigabytes), direct otherwise.");
   prm.declare_entry("Solver tolerance", "1e-10", dealii::Patterns::Double(),
                     "Iterative solver: each conjugate-gradient solve stops when the residual's 2-norm is this "
-                    "fraction of the load's [-], 1e-14 to 1e-3 (the residual of a double-precision K u stalls "
-                    "near 1e-12).");
+                    "fraction of the load's [-], 1e-12 to 1e-8 (the residual of a double-precision K u stalls "
+                    "near 1e-12; coarser would pass unbalanced solutions as equilibrium).");
   prm.declare_entry("Node sets", "", dealii::Patterns::Anything(),
                     "Solid: node sets whose mean displacement [m] 'flextrack static' reports, separated by commas; "
                     "empty: the node sets that carry forces. At most 1000.");
@@ -463,7 +470,7 @@ StaticSettings StaticSettings::parse_parameters(ParameterHandler &prm, const Arm
   const auto sets = base::words(prm.get("Node sets"));
   s.solver = prm.get("Linear solver");
   s.tolerance = geometry::checked_number(prm.get_double("Solver tolerance"), "Static/Solver tolerance",
-                                         {1e-14, 1e-3, true, "-"});
+                                         {1e-12, 1e-8, true, "-"});
   prm.leave_subsection();
   if (sets.size() > max_load_items)
     throw InputError("Static/Node sets", std::to_string(sets.size()) + " node sets; at most " +

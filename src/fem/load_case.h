@@ -110,7 +110,7 @@ struct NodeSetPressure
 struct SupportDisplacement
 {
   double s = 0;             ///< arm: the support's arc length [m]
-  unsigned int support = 0; ///< solid: index in Solid::supports
+  std::vector<unsigned int> supports; ///< solid: indices in Solid::supports of every support at that place
   std::vector<double> value; ///< 3 (u) or 6 (u, theta) numbers
   std::string label;        ///< as written, for messages
 };

@@ -155,9 +155,21 @@ Vector<double> SolidModel::load_vector(const LoadCase &load_case) const
         }
     }
   for (const auto &load : load_case.node_forces)
-    for (const auto &node : body.mesh->node_sets.at(load.node_set))
-      if (const auto d = node_dofs(node); !d.empty())
-        for (unsigned int c = 0; c < 3; ++c) f[d[c]] += load.force[c];
+    {
+      // Nodes that carry dofs: all of a hex20 or hex27 mesh, the corners of a hex8 one (the
+      // mid-side nodes of the 20-node geometry carry none there).
+      unsigned int loaded = 0;
+      for (const auto &node : body.mesh->node_sets.at(load.node_set))
+        if (const auto d = node_dofs(node); !d.empty())
+          {
+            for (unsigned int c = 0; c < 3; ++c) f[d[c]] += load.force[c];
+            ++loaded;
+          }
+      if (loaded == 0)
+        throw InputError("Load case " + load_case.name + "/Node forces",
+                         "no node of set '" + load.node_set + "' carries degrees of freedom with this element (hex8: "
+                         "corner nodes only); allowed: a set with corner nodes, or 'Node set forces'");
+    }
   for (const auto &load : load_case.pressures)
     {
       const auto faces = faces_of(dofs, body.mesh->node_sets.at(load.node_set));
@@ -209,24 +221,41 @@ Vector<double> SolidModel::support_displacements(const LoadCase &load_case) cons
   const auto component = dof_components();
   double size = 0;
   for (const auto &v : body.mesh->triangulation.get_vertices()) size = std::max(size, v.norm());
-  for (const auto &d : load_case.support_displacements)
+  // Which item set each dof: two items that share nodes must agree there (a listed support
+  // sharing nodes with one that is not listed moves them: the listed value applies).
+  std::vector<int> set_by(dofs.n_dofs(), -1);
+  const auto prescribe = [&](const types::global_dof_index i, const unsigned int item, const double value) {
+    if (set_by[i] >= 0 && g[i] != value)
+      throw InputError("Load case " + load_case.name + "/Support displacements",
+                       "'" + load_case.support_displacements[set_by[i]].label + "' and '" +
+                         load_case.support_displacements[item].label +
+                         "' share nodes but prescribe different displacements there; allowed: equal values on "
+                         "shared nodes");
+    g[i] = value;
+    set_by[i] = static_cast<int>(item);
+  };
+  for (unsigned int item = 0; item < load_case.support_displacements.size(); ++item)
     {
-      const SolidSupport &support = body.supports.at(d.support);
-      // The same dofs as SolidModel::apply_supports fixes for this support.
-      if (support.plane_axis >= 0)
+      const auto &d = load_case.support_displacements[item];
+      for (const unsigned int k : d.supports)
         {
-          for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
-            if (std::abs(points[i][support.plane_axis] - support.plane_position) <= 1e-9 * std::max(size, 1.0) &&
-                support.fixed[component[i]])
-              g[i] = d.value[component[i]];
+          const SolidSupport &support = body.supports.at(k);
+          // The same dofs as SolidModel::apply_supports fixes for this support.
+          if (support.plane_axis >= 0)
+            {
+              for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+                if (std::abs(points[i][support.plane_axis] - support.plane_position) <= 1e-9 * std::max(size, 1.0) &&
+                    support.fixed[component[i]])
+                  prescribe(i, item, d.value[component[i]]);
+            }
+          else
+            for (const auto &node : body.mesh->node_sets.at(support.node_set))
+              {
+                const auto at = node_dofs(node);
+                for (unsigned int c = 0; c < at.size(); ++c)
+                  if (support.fixed[c]) prescribe(at[c], item, d.value[c]);
+              }
         }
-      else
-        for (const auto &node : body.mesh->node_sets.at(support.node_set))
-          {
-            const auto at = node_dofs(node);
-            for (unsigned int c = 0; c < at.size(); ++c)
-              if (support.fixed[c]) g[at[c]] = d.value[c];
-          }
     }
   return g;
 }

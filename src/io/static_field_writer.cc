@@ -7,6 +7,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 namespace flextrack::io
@@ -24,7 +25,14 @@ void write_vtu(OutputFolder &folder, DataOut<dim, 3> &out, const std::string &na
   out.set_flags(flags);
   errno = 0;
   std::ofstream file(folder.add_file(name));
-  out.write_vtu(file);
+  try
+    {
+      out.write_vtu(file); // deal.II throws its own exception when the stream fails
+    }
+  catch (const ExceptionBase &)
+    {
+      file.setstate(std::ios::failbit);
+    }
   file.close();
   if (!file)
     throw InputError("-o / Output/Directory", "cannot write '" + folder.path() + "/" + name + "': " +
@@ -38,11 +46,29 @@ void write_series(OutputFolder &folder, const std::vector<std::string> &names)
   for (std::size_t k = 0; k < names.size(); ++k) series.emplace_back(static_cast<double>(k + 1), "static_" + names[k] + ".vtu");
   errno = 0;
   std::ofstream file(folder.add_file("static.pvd"));
-  DataOutBase::write_pvd_record(file, series);
+  try
+    {
+      DataOutBase::write_pvd_record(file, series);
+    }
+  catch (const ExceptionBase &)
+    {
+      file.setstate(std::ios::failbit);
+    }
   file.close();
   if (!file) throw InputError("-o / Output/Directory", "cannot write '" + folder.path() + "/static.pvd'");
 }
 } // namespace
+
+void remove_static_fields(const std::string &folder)
+{
+  std::error_code ec;
+  for (const auto &entry : std::filesystem::directory_iterator(folder, ec))
+    {
+      const std::string name = entry.path().filename().string();
+      const bool vtu = name.rfind("static_", 0) == 0 && name.size() > 4 && name.substr(name.size() - 4) == ".vtu";
+      if (vtu || name == "static.pvd" || name == "section_forces.csv") std::filesystem::remove(entry.path(), ec);
+    }
+}
 
 void write_static_fields(OutputFolder &folder, const fem::CurvedBeamModel &model, const std::vector<std::string> &names,
                          const std::vector<Vector<double>> &u, const unsigned int subdivisions)

@@ -18,6 +18,9 @@
 
 namespace flextrack::io
 {
+/// Removes the static fields of an earlier run (static_*.vtu, static.pvd, section_forces.csv)
+/// from @p folder, whose load cases may have had other names.
+void remove_static_fields(const std::string &folder);
 /// static_NAME.vtu per load case @p names[k] with solution @p u[k], and static.pvd (staged in
 /// @p folder). Write errors: InputError naming the file.
 void write_static_fields(OutputFolder &folder, const fem::CurvedBeamModel &model, const std::vector<std::string> &names,

@@ -6,12 +6,15 @@
 #include <Epetra_MultiVector.h>
 #include <Teuchos_ParameterList.hpp>
 
+#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace flextrack::reduction
 {
@@ -61,6 +64,7 @@ StaticSolver::StaticSolver(const dealii::TrilinosWrappers::SparseMatrix &K_free,
       factorization = std::make_unique<SparseFactorization>(K_free, held);
       return;
     }
+  refuse_mechanism();
   supported = std::make_unique<dealii::TrilinosWrappers::SparseMatrix>(supported_copy(K_free, supports));
   // Smoothed aggregation for an elliptic problem of higher-order elements (ML's defaults as
   // deal.II sets them: Chebyshev smoother, KLU on the coarsest level), with the rigid motions as
@@ -81,6 +85,36 @@ StaticSolver::StaticSolver(const dealii::TrilinosWrappers::SparseMatrix &K_free,
     }
   multigrid = std::make_unique<dealii::TrilinosWrappers::PreconditionAMG>();
   multigrid->initialize(*supported, parameters);
+  settings.rigid_modes.clear(); // copied into null_space
+}
+
+void StaticSolver::refuse_mechanism() const
+{
+  // The factor finds a mechanism as a zero pivot; CG would instead converge to one of many
+  // solutions (a load orthogonal to the free motion) or not at all. The supports hold every
+  // rigid motion iff the rigid modes restricted to the supported dofs are independent: the
+  // Gram matrix of the normalised modes there has no (near-)zero eigenvalue.
+  const auto &R = settings.rigid_modes;
+  const unsigned int m = R.size();
+  if (m == 0) return;
+  dealii::LAPACKFullMatrix<double> gram(m, m);
+  for (unsigned int a = 0; a < m; ++a)
+    for (unsigned int b = 0; b < m; ++b)
+      {
+        double sum = 0;
+        for (std::size_t i = 0; i < R[a].size(); ++i)
+          if (fixed.is_constrained(i)) sum += R[a][i] * R[b][i];
+        gram(a, b) = sum / (R[a].l2_norm() * R[b].l2_norm());
+      }
+  gram.compute_eigenvalues();
+  double smallest = std::numeric_limits<double>::max(), largest = 0;
+  for (unsigned int a = 0; a < m; ++a)
+    {
+      smallest = std::min(smallest, gram.eigenvalue(a).real());
+      largest = std::max(largest, gram.eigenvalue(a).real());
+    }
+  if (!(smallest > 1e-12 * largest))
+    throw SolverError("the supports do not hold the structure against every rigid motion (a mechanism); add supports");
 }
 
 void StaticSolver::solve_supported(const double *b, double *x, const std::size_t k) const
@@ -142,6 +176,10 @@ std::vector<StaticSolution> StaticSolver::solve(const std::vector<dealii::Vector
   const std::size_t n = K.m(), k = f.size();
   // u = g + x: g the prescribed support displacements (zero at free dofs), x zero at the
   // supports; K_ff x_f = f_f - (K g)_f. Scale of the residual test: the free rows' loads.
+  if (!prescribed.empty() && prescribed.size() != k)
+    throw std::invalid_argument("StaticSolver::solve: one prescribed vector per load vector");
+  for (const auto &p : prescribed)
+    if (p.size() != n) throw std::invalid_argument("StaticSolver::solve: prescribed vector of the wrong length");
   std::vector<dealii::Vector<double>> g(k, dealii::Vector<double>(n));
   std::vector<double> B(n * k), X(n * k), scale(k, 0.0);
   for (std::size_t j = 0; j < k; ++j)

@@ -69,6 +69,8 @@ public:
   unsigned int iterations() const { return cg_iterations; }
 
 private:
+  /// Iterative: SolverError if the supports leave a rigid motion free (the factor finds that itself).
+  void refuse_mechanism() const;
   /// x = A^{-1} b for @p k right-hand sides (columns of length n), A the supported K.
   void solve_supported(const double *b, double *x, std::size_t k) const;
   /// Refinement steps at most (each one solve and one product; stops when the residual stops falling).
@@ -81,8 +83,10 @@ private:
   StaticSolverSettings settings;
   std::unique_ptr<SparseFactorization> factorization;
   std::unique_ptr<dealii::TrilinosWrappers::SparseMatrix> supported; ///< iterative: A itself
+  /// The rigid modes, one after the other; ML keeps a pointer to them, so they are declared
+  /// (and destroyed) before (after) the multigrid.
+  std::vector<double> null_space;
   std::unique_ptr<dealii::TrilinosWrappers::PreconditionAMG> multigrid;
-  std::vector<double> null_space; ///< the rigid modes, one after the other (ML keeps a pointer)
   mutable unsigned int cg_iterations = 0;
 };
 } // namespace flextrack::reduction

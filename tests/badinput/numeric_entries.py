@@ -96,6 +96,7 @@ TEMPLATES = {
     "Line loads": [("start", "{v} 2: 0 0 1"), ("load", "1 2: {v} 0 0")],
     # the arm scene has no solid: every pressure is refused there, naming the entry
     "Pressures": [("pressure", "XMAX: {v}")],
+    "Node forces": [("force", "XMAX: {v} 0 0")],
     "Support displacements": [("arc length", "{v}: 0 0 0"), ("displacement", "0: {v} 0 0")],
 }
 # Context of an entry: (section path as printed, with "Arm" standing for "Arm" and "Arm NAME") ->

@@ -1,6 +1,7 @@
 // Linear statics of arms (issue 12): load cases read from a scene, solved with one factorisation
 // (reduction::StaticSolver), against closed forms of Timoshenko beams and Castigliano's theorem.
 // References: REFERENCES.md section 8 (Castigliano / Roark), copied next to each assertion.
+#include <base/solver_error.h>
 #include <fem/curved_beam_model.h>
 #include <fem/load_case.h>
 #include <fem/solid_loads.h>
@@ -481,6 +482,22 @@ TEST(SolidStatics, iterative_solver_matches_calculix_and_the_factor_on_the_macne
       report(std::string("iterative vs direct, 24x4x2: ") + macneal_harder_names[c], iterative.tip(c), direct.tip(c));
       EXPECT_LT(relative(iterative.tip(c), direct.tip(c)), 1e-8) << macneal_harder_names[c];
     }
+}
+
+TEST(SolidStatics, iterative_solver_refuses_supports_that_leave_a_rigid_motion_free)
+{
+  // The factor meets a mechanism as a zero pivot; CG might converge to one of infinitely many
+  // solutions, so the iterative solver checks the supports first: a single supported node (three
+  // displacements fixed) leaves the three rotations about it free, the clamped face none.
+  const SolidStatics st("6, 1, 1", macneal_harder_cases);
+  reduction::StaticSolverSettings settings;
+  settings.iterative = true;
+  settings.rigid_modes = st.model->rigid_body_modes();
+  dealii::AffineConstraints<double> one_node;
+  for (unsigned int c = 0; c < 3; ++c) one_node.add_line(st.model->node_dofs(st.scene.solid.mesh->node_sets.at("XMIN")[0])[c]);
+  one_node.close();
+  EXPECT_THROW(reduction::StaticSolver(st.model->stiffness_matrix(), one_node, settings), SolverError);
+  EXPECT_NO_THROW(reduction::StaticSolver(st.model->stiffness_matrix(), st.model->constraints(), settings));
 }
 
 TEST(SolidStatics, reactions_balance_the_applied_loads_to_the_round_off_of_the_assembled_stiffness)
