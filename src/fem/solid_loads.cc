@@ -10,6 +10,7 @@
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
 
 #include <deal.II/base/symmetric_tensor.h>
 
@@ -255,6 +256,60 @@ Vector<double> SolidModel::support_displacements(const LoadCase &load_case) cons
                 for (unsigned int c = 0; c < at.size(); ++c)
                   if (support.fixed[c]) prescribe(at[c], item, d.value[c]);
               }
+        }
+    }
+  return g;
+}
+
+std::vector<long double> SolidModel::internal_forces(const std::vector<long double> &u) const
+{
+  const auto points = support_points();
+  const auto component = dof_components();
+  const QGauss<3> rule(body.gauss_points);
+  FEValues<3> values(*map, *fe, rule, update_values | update_gradients | update_JxW_values);
+  const unsigned int n = fe->n_dofs_per_cell();
+  FullMatrix<double> k_cell(n, n);
+  std::vector<types::global_dof_index> local(n);
+  std::vector<long double> g(dofs.n_dofs(), 0.0L), d(n);
+  for (const auto &cell : dofs.active_cell_iterators())
+    {
+      cell_matrices(values, cell, k_cell, nullptr);
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < i; ++j) k_cell(j, i) = k_cell(i, j);
+      cell->get_dof_indices(local);
+      // The cell's best-fit rigid motion t + omega x (x - c) (least squares over its nodes; any
+      // rigid motion would do, K_e annihilates it, the fit leaves the smallest rest), evaluated
+      // in long double from its double parameters: exactly rigid to 1e-19, so that its forces
+      // are K_e's round-off on rigid motions times a small rest only.
+      std::vector<std::pair<Point<3>, double>> x;
+      Tensor<1, 3> t;
+      for (unsigned int i = 0; i < n; ++i)
+        if (component[local[i]] == 0) x.emplace_back(points[local[i]], 1.0);
+      for (unsigned int i = 0; i < n; ++i) t[component[local[i]]] += static_cast<double>(u[local[i]]) / x.size();
+      const Point<3> c = centroid(x);
+      Tensor<1, 3> moment;
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          Tensor<1, 3> ui;
+          ui[component[local[i]]] = static_cast<double>(u[local[i]]) - t[component[local[i]]];
+          moment += cross_product_3d(points[local[i]] - c, ui);
+        }
+      const Tensor<1, 3> omega = invert(inertia_about(x, c)) * moment;
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          const unsigned int ci = component[local[i]], a = (ci + 1) % 3, b = (ci + 2) % 3;
+          const long double ra = static_cast<long double>(points[local[i]][a]) - c[a];
+          const long double rb = static_cast<long double>(points[local[i]][b]) - c[b];
+          // (omega x r)_ci = omega_a r_b - omega_b r_a for (ci, a, b) cyclic.
+          const long double rigid = static_cast<long double>(t[ci]) + static_cast<long double>(omega[a]) * rb -
+                                    static_cast<long double>(omega[b]) * ra;
+          d[i] = u[local[i]] - rigid;
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          long double sum = 0;
+          for (unsigned int j = 0; j < n; ++j) sum += static_cast<long double>(k_cell(i, j)) * d[j];
+          g[local[i]] += sum;
         }
     }
   return g;

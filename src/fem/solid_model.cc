@@ -270,6 +270,51 @@ void SolidModel::refuse_unsupported_parts() const
       }
 }
 
+void SolidModel::cell_matrices(FEValues<3> &values, const DoFHandler<3>::active_cell_iterator &cell,
+                               FullMatrix<double> &k_cell, FullMatrix<double> *m_cell) const
+{
+  const Material &m = body.material;
+  const double mu = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
+  const double lambda = m.youngs_modulus * m.poisson_ratio / ((1 + m.poisson_ratio) * (1 - 2 * m.poisson_ratio));
+  const unsigned int n = fe->n_dofs_per_cell();
+  values.reinit(cell);
+  k_cell = 0;
+  if (m_cell) *m_cell = 0;
+  // The element is primitive (each shape function has one non-zero component): tabulate that
+  // component's value and gradient per quadrature point, then form the integrands.
+  std::vector<unsigned int> component(n);
+  for (unsigned int i = 0; i < n; ++i) component[i] = fe->system_to_component_index(i).first;
+  std::vector<double> N(n);
+  std::vector<Tensor<1, 3>> G(n);
+  for (unsigned int q = 0; q < values.n_quadrature_points; ++q)
+    {
+      const double dx = values.JxW(q);
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          N[i] = values.shape_value(i, q);
+          G[i] = values.shape_grad(i, q);
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          const unsigned int ci = component[i];
+          const Tensor<1, 3> &gi = G[i];
+          for (unsigned int j = 0; j <= i; ++j)
+            {
+              const unsigned int cj = component[j];
+              const Tensor<1, 3> &gj = G[j];
+              // Isotropic elasticity (deal.II step-8): lambda div div + mu (grad + grad^T).
+              double k = lambda * gi[ci] * gj[cj] + mu * gi[cj] * gj[ci];
+              if (ci == cj)
+                {
+                  k += mu * (gi * gj);
+                  if (m_cell) (*m_cell)(i, j) += m.density * N[i] * N[j] * dx;
+                }
+              k_cell(i, j) += k * dx;
+            }
+        }
+    }
+}
+
 void SolidModel::assemble()
 {
   AffineConstraints<double> none;
@@ -293,54 +338,15 @@ void SolidModel::assemble()
   if (assemble_mass) mass.reinit(stiffness.trilinos_matrix(), false);
   base::release_free_heap();
 
-  const Material &m = body.material;
-  const double mu = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
-  const double lambda = m.youngs_modulus * m.poisson_ratio / ((1 + m.poisson_ratio) * (1 - 2 * m.poisson_ratio));
   const QGauss<3> rule(body.gauss_points);
   FEValues<3> values(*map, *fe, rule, update_values | update_gradients | update_JxW_values);
   const unsigned int n = fe->n_dofs_per_cell();
   FullMatrix<double> k_cell(n, n), m_cell(n, n);
   std::vector<types::global_dof_index> local(n);
-  std::vector<unsigned int> component(n);
-  for (unsigned int i = 0; i < n; ++i) component[i] = fe->system_to_component_index(i).first;
-
-  // The element is primitive (each shape function has one non-zero component): tabulate that
-  // component's value and gradient per quadrature point, then form the integrands.
-  std::vector<double> N(n);
-  std::vector<Tensor<1, 3>> G(n);
   for (const auto &cell : dofs.active_cell_iterators())
     {
       if (!cell->is_locally_owned()) continue;
-      values.reinit(cell);
-      k_cell = 0;
-      m_cell = 0;
-      for (unsigned int q = 0; q < rule.size(); ++q)
-        {
-          const double dx = values.JxW(q);
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              N[i] = values.shape_value(i, q);
-              G[i] = values.shape_grad(i, q);
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              const unsigned int ci = component[i];
-              const Tensor<1, 3> &gi = G[i];
-              for (unsigned int j = 0; j <= i; ++j)
-                {
-                  const unsigned int cj = component[j];
-                  const Tensor<1, 3> &gj = G[j];
-                  // Isotropic elasticity (deal.II step-8): lambda div div + mu (grad + grad^T).
-                  double k = lambda * gi[ci] * gj[cj] + mu * gi[cj] * gj[ci];
-                  if (ci == cj)
-                    {
-                      k += mu * (gi * gj);
-                      m_cell(i, j) += m.density * N[i] * N[j] * dx;
-                    }
-                  k_cell(i, j) += k * dx;
-                }
-            }
-        }
+      cell_matrices(values, cell, k_cell, assemble_mass ? &m_cell : nullptr);
       cell->get_dof_indices(local);
       add_symmetric_cell_matrices(k_cell, m_cell, local, applied, stiffness, mass);
     }

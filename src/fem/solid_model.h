@@ -18,6 +18,8 @@
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/fe/mapping_fe_field.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
@@ -62,6 +64,12 @@ public:
   /// The six rigid motions (translations along x, y, z; small rotations about the x, y, z axes
   /// through the origin) as dof vectors: the near-null space of the free body's K.
   std::vector<dealii::Vector<double>> rigid_body_modes() const;
+  /// The internal forces K u, summed cell by cell as K_e (u_e - R_e a_e) with each cell's
+  /// best-fit rigid motion R_e a_e taken out first (in long double). Mathematically K u; in
+  /// floating point their resultant is free of the round-off of K on rigid motions (K R = 0 only
+  /// to eps |K|, times the large rigid part of a bending solution), so reactions computed from
+  /// them balance the loads to round-off of the deformation itself. Costs one assembly.
+  std::vector<long double> internal_forces(const std::vector<long double> &u) const;
   /// Resultant about the origin of the nodal forces @p r (at the dofs' support points).
   Resultant nodal_resultant(const dealii::Vector<double> &r) const;
   /// Mean displacement [m] of the nodes of node set @p set in the solution @p u.
@@ -70,6 +78,9 @@ public:
 private:
   /// The displacement component (0, 1, 2) of every dof.
   std::vector<unsigned int> dof_components() const;
+  /// Stiffness (and mass, if @p m_cell) matrix of @p cell, lower triangles (j <= i) only.
+  void cell_matrices(dealii::FEValues<3> &values, const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                     dealii::FullMatrix<double> &k_cell, dealii::FullMatrix<double> *m_cell) const;
   void setup_geometry();
   void tabulate_node_dofs();
   void apply_supports();

@@ -151,22 +151,29 @@ StaticSolver::~StaticSolver() = default;
 
 /// r = K u - f with every row's sum accumulated in long double (64-bit mantissa on x86): the
 /// terms K_ij u_j of a bending solution are 1e4..1e6 times their sum, so a double sum loses the
-/// digits that the reactions and the refinement need.
-std::vector<long double> StaticSolver::accurate_residual(const dealii::Vector<double> &u, const dealii::Vector<double> &f) const
+/// digits that the reactions and the refinement need. With StaticSolverSettings::internal_forces
+/// K u is the model's own cell-by-cell sum instead (see there).
+std::vector<long double> StaticSolver::accurate_residual(const std::vector<long double> &u,
+                                                         const dealii::Vector<double> &f) const
 {
-  const auto &a = K.trilinos_matrix();
   std::vector<long double> r(K.m());
-  for (int row = 0; row < a.NumMyRows(); ++row)
+  if (settings.internal_forces)
+    r = settings.internal_forces(u);
+  else
     {
-      int count = 0;
-      double *values = nullptr;
-      int *columns = nullptr;
-      a.ExtractMyRowView(row, count, values, columns);
-      long double sum = 0;
-      for (int c = 0; c < count; ++c) sum += static_cast<long double>(values[c]) * u[a.ColMap().GID(columns[c])];
-      const auto i = static_cast<std::size_t>(a.RowMap().GID(row));
-      r[i] = sum - f[i];
+      const auto &a = K.trilinos_matrix();
+      for (int row = 0; row < a.NumMyRows(); ++row)
+        {
+          int count = 0;
+          double *values = nullptr;
+          int *columns = nullptr;
+          a.ExtractMyRowView(row, count, values, columns);
+          long double sum = 0;
+          for (int c = 0; c < count; ++c) sum += static_cast<long double>(values[c]) * u[a.ColMap().GID(columns[c])];
+          r[static_cast<std::size_t>(a.RowMap().GID(row))] = sum;
+        }
     }
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] -= f[i];
   return r;
 }
 
@@ -204,12 +211,15 @@ std::vector<StaticSolution> StaticSolver::solve(const std::vector<dealii::Vector
       auto &s = solutions[j];
       s.u.reinit(n);
       for (std::size_t i = 0; i < n; ++i) s.u[i] = fixed.is_constrained(i) ? g[j][i] : X[j * n + i];
-      // Iterative refinement with residuals summed in long double: the reactions are K u - f
-      // at the supports, and their resultant balances the loads up to R^T K u (the assembled K's
-      // round-off on the rigid motions R, times u) plus the free rows of K u - f, the solve's
-      // residual. One solve leaves the latter at 1e-9..1e-8 of |f| on slender solids
-      // (cond(K) about 1e9); refined, it falls below 1e-10 and R^T K u is what remains.
-      std::vector<long double> r = accurate_residual(s.u, f[j]);
+      // Iterative refinement with residuals summed in long double, the solution itself kept in
+      // long double (u_ld): the reactions are K u - f at the supports, and their resultant
+      // balances the loads up to R^T K u (the assembled K's round-off on the rigid motions R,
+      // times u) plus the free rows of K u - f, the solve's residual. One solve leaves the latter
+      // at 1e-9..1e-8 of |f| on slender solids (cond(K) about 1e9); a double u cannot take it
+      // below eps |K| |u| per row, a long-double one can. With the model's internal forces
+      // (rigid motions taken out cell by cell) R^T K u goes too.
+      std::vector<long double> u_ld(s.u.begin(), s.u.end());
+      std::vector<long double> r = accurate_residual(u_ld, f[j]);
       const auto free_size = [&](const std::vector<long double> &e) {
         long double worst = 0;
         for (std::size_t i = 0; i < n; ++i)
@@ -226,21 +236,22 @@ std::vector<StaticSolution> StaticSolver::solve(const std::vector<dealii::Vector
           std::vector<double> b(n), du(n);
           for (std::size_t i = 0; i < n; ++i) b[i] = fixed.is_constrained(i) ? 0.0 : -static_cast<double>(r[i]);
           solve_supported(b.data(), du.data(), 1);
-          dealii::Vector<double> u = s.u;
+          std::vector<long double> u_next = u_ld;
           for (std::size_t i = 0; i < n; ++i)
-            if (!fixed.is_constrained(i)) u[i] += du[i];
-          auto r_next = accurate_residual(u, f[j]);
+            if (!fixed.is_constrained(i)) u_next[i] += du[i];
+          auto r_next = accurate_residual(u_next, f[j]);
           const double next = free_size(r_next);
           if (!(next < worst)) break;
-          s.u = u;
+          u_ld = std::move(u_next);
           r = std::move(r_next);
           worst = next;
         }
+      for (std::size_t i = 0; i < n; ++i) s.u[i] = static_cast<double>(u_ld[i]);
       s.reaction.reinit(n);
       for (std::size_t i = 0; i < n; ++i) s.reaction[i] = fixed.is_constrained(i) ? static_cast<double>(r[i]) : 0.0;
       // U = u^T K u / 2 = (u . f + u . r) / 2, r = K u - f; u = 0 where r is a reaction.
       long double energy = 0;
-      for (std::size_t i = 0; i < n; ++i) energy += static_cast<long double>(s.u[i]) * (f[j][i] + r[i]);
+      for (std::size_t i = 0; i < n; ++i) energy += u_ld[i] * (f[j][i] + r[i]);
       s.strain_energy = static_cast<double>(energy / 2);
       s.residual = scale[j] > 0 ? worst / scale[j] : worst;
       if (!(s.residual < 1e-4))

@@ -16,6 +16,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -47,6 +48,10 @@ struct StaticSolverSettings
   std::vector<dealii::Vector<double>> rigid_modes;
   /// Iterative: CG iterations per solve at most (SolverError beyond).
   unsigned int max_iterations = 5000;
+  /// Optional: the model's internal forces K u for a long-double u, summed so that rigid motions
+  /// give no net force (fem::SolidModel::internal_forces); used for the residuals of the
+  /// refinement and the reactions instead of the assembled K (costs one assembly each).
+  std::function<std::vector<long double>(const std::vector<long double> &)> internal_forces;
 };
 
 class StaticSolver
@@ -76,7 +81,7 @@ private:
   /// Refinement steps at most (each one solve and one product; stops when the residual stops falling).
   static constexpr unsigned int max_refinements = 3;
   /// K_free u - f, each row summed in long double.
-  std::vector<long double> accurate_residual(const dealii::Vector<double> &u, const dealii::Vector<double> &f) const;
+  std::vector<long double> accurate_residual(const std::vector<long double> &u, const dealii::Vector<double> &f) const;
 
   const dealii::TrilinosWrappers::SparseMatrix &K;
   const dealii::AffineConstraints<double> &fixed;

@@ -226,7 +226,10 @@ struct SolidStatics
     for (const auto &c : scene.load_cases) loads.push_back(model->load_vector(c));
     reduction::StaticSolverSettings settings;
     settings.iterative = iterative;
-    if (iterative) settings.rigid_modes = model->rigid_body_modes();
+    if (iterative)
+      settings.rigid_modes = model->rigid_body_modes();
+    else // as 'flextrack static' does for solids up to 5e4 dofs
+      settings.internal_forces = [this](const std::vector<long double> &u) { return model->internal_forces(u); };
     const reduction::StaticSolver solver(model->stiffness_matrix(), model->constraints(), settings);
     solutions = solver.solve(loads);
     cg_iterations = solver.iterations();
@@ -463,8 +466,11 @@ TEST(SolidStatics, iterative_solver_matches_calculix_and_the_factor_on_the_macne
   //     (ccx 2.20, recorded in doc/static.md; the test above runs ccx itself): 2.9826832e-5,
   //     0.10488356, 0.41511324, 0.028996025 rad, to 2e-7 relative (ccx's printed digits).
   // (2) 24 x 4 x 2 cells (cells 0.25 x 0.05 x 0.05 m, aspect ratio 5, two cells through the
-  //     depth: a hard case for aggregation multigrid), against the Cholesky solution of the same
-  //     K: 1e-8 relative. It converges, slowly: about 315 iterations per case (48 x 8 x 4: about
+  //     depth: a hard case for aggregation multigrid), against the Cholesky solution: 5e-8
+  //     relative. (The direct path solves with residuals of the cell-by-cell internal forces,
+  //     CG with the assembled K; on this slender mesh the two round-off-level operators give
+  //     solutions 1.4e-8 apart in out-of-plane shear, 3e-10 with both on K.) It converges,
+  //     slowly: about 315 iterations per case (48 x 8 x 4: about
   //     200; the 80 x 8 x 8 block of cubic cells of the benchmark: 52), which is why 'auto' keeps
   //     the factor below 1e5 dofs.
   const double calculix[] = {2.9826832e-5, 0.10488356, 0.41511324, 0.028996025};
@@ -480,7 +486,7 @@ TEST(SolidStatics, iterative_solver_matches_calculix_and_the_factor_on_the_macne
   for (unsigned int c = 0; c < 4; ++c)
     {
       report(std::string("iterative vs direct, 24x4x2: ") + macneal_harder_names[c], iterative.tip(c), direct.tip(c));
-      EXPECT_LT(relative(iterative.tip(c), direct.tip(c)), 1e-8) << macneal_harder_names[c];
+      EXPECT_LT(relative(iterative.tip(c), direct.tip(c)), 5e-8) << macneal_harder_names[c];
     }
 }
 
@@ -500,18 +506,17 @@ TEST(SolidStatics, iterative_solver_refuses_supports_that_leave_a_rigid_motion_f
   EXPECT_NO_THROW(reduction::StaticSolver(st.model->stiffness_matrix(), st.model->constraints(), settings));
 }
 
-TEST(SolidStatics, reactions_balance_the_applied_loads_to_the_round_off_of_the_assembled_stiffness)
+TEST(SolidStatics, reactions_balance_the_applied_loads_to_round_off)
 {
-  // Reactions r = K_free u - f at the clamp against the nodal load vector's resultant (exact for
-  // isoparametric cells) on the MacNeal-Harder cantilever, the weight rho V g included. With R
-  // the rigid motions, applied + reactions = R^T K u - R^T (K u - f)_free: the second term is the
-  // solve's residual, the first the assembled K's round-off on rigid motions (K R = 0 only to
-  // eps |K|) times u. Issue 12 asks 1e-10 of |F|: met for extension (4.5e-13); R^T K u alone
-  // is 1.8e-10 in twist (of |M| / L), 5.6e-10 (in-plane), 6.0e-9 (out-of-plane), 2.2e-9
-  // (weight) of |F|, the floor of a double-precision K (the solver's refinement with long-double
-  // residuals brings the solve's part below it, reduction/static_solver.cc). Asserted: (1) the
-  // imbalance equals R^T K u up to the solve's part, 1e-10 |F|; (2) R^T K u is round-off, below
-  // 10 eps sum_ij |K_ij| |u_j| (a bound on the rounding of K's entries, Higham ch. 3).
+  // Reactions at the clamp against the nodal load vector's resultant (exact for isoparametric
+  // cells) on the MacNeal-Harder cantilever, the weight rho V g included; issue 12 asks 1e-10
+  // of |F| (|M| / L for the twist). With R the rigid motions, applied + reactions =
+  // R^T g - R^T (g - f)_free for internal forces g = K u: with g from the assembled K, R^T K u is
+  // K's round-off on rigid motions (K R = 0 only to eps |K|) times the large rigid part of a
+  // bending solution, up to 6e-9 of |F| here (printed), and a double u leaves a free residual of
+  // eps |K| |u| per row. The solver therefore takes g cell by cell with each cell's rigid motion
+  // taken out (fem::SolidModel::internal_forces) and keeps u in long double through its
+  // refinement (reduction/static_solver.cc): both terms go to round-off of the deformation.
   const SolidStatics st("6, 1, 1", macneal_harder_cases + "subsection Static\n set Load cases = extension, in_plane, "
                                    "out_of_plane, twist, weight\nend\n"
                                    "subsection Load case weight\n set Gravity = 0, 0, -9.81\nend\n");
@@ -519,9 +524,8 @@ TEST(SolidStatics, reactions_balance_the_applied_loads_to_the_round_off_of_the_a
   for (unsigned int c = 0; c < st.loads.size(); ++c)
     {
       const auto &u = st.solutions[c].u;
-      // K u row by row in long double, and sum |K_ij| |u_j|.
+      // For comparison: R^T K u with the assembled K, row by row in long double.
       dealii::Vector<double> Ku(u.size());
-      long double magnitude = 0;
       for (int row = 0; row < a.NumMyRows(); ++row)
         {
           int count = 0;
@@ -529,12 +533,7 @@ TEST(SolidStatics, reactions_balance_the_applied_loads_to_the_round_off_of_the_a
           int *columns = nullptr;
           a.ExtractMyRowView(row, count, values, columns);
           long double sum = 0;
-          for (int q = 0; q < count; ++q)
-            {
-              const double uj = u[a.ColMap().GID(columns[q])];
-              sum += static_cast<long double>(values[q]) * uj;
-              magnitude += std::abs(static_cast<long double>(values[q]) * uj);
-            }
+          for (int q = 0; q < count; ++q) sum += static_cast<long double>(values[q]) * u[a.ColMap().GID(columns[q])];
           Ku[a.RowMap().GID(row)] = static_cast<double>(sum);
         }
       const auto RKu = st.model->nodal_resultant(Ku);
@@ -542,14 +541,9 @@ TEST(SolidStatics, reactions_balance_the_applied_loads_to_the_round_off_of_the_a
       const double L = 6, F = std::max(applied.force.norm(), applied.moment.norm() / L);
       const auto size = [&](const fem::Resultant &r) { return std::max(r.force.norm(), r.moment.norm() / L); };
       const fem::Resultant imbalance{applied.force + reaction.force, applied.moment + reaction.moment};
-      const fem::Resultant solve_part{imbalance.force - RKu.force, imbalance.moment - RKu.moment};
-      const double round_off = 10 * std::numeric_limits<double>::epsilon() * static_cast<double>(magnitude);
       std::cout << "  " << std::setw(12) << st.scene.load_cases[c].name << ": imbalance " << size(imbalance) / F
-                << " of |F|; R^T K u " << size(RKu) / F << ", solve's part " << size(solve_part) / F
-                << "; 10 eps sum |K||u| = " << round_off / F << "\n";
-      EXPECT_LT(size(solve_part), 1e-10 * F);
-      EXPECT_LT(RKu.force.norm(), round_off);
-      if (c == 0) EXPECT_LT(size(imbalance), 1e-10 * F); // extension: the issue's 1e-10 itself
+                << " of |F| (R^T K u of the assembled K: " << size(RKu) / F << ")\n";
+      EXPECT_LT(size(imbalance), 1e-10 * F) << st.scene.load_cases[c].name;
     }
   const auto [weight, reaction] = st.resultants(4);
   EXPECT_LT(relative(-weight.force[2], 1000 * 6 * 0.2 * 0.1 * 9.81), 1e-12);
