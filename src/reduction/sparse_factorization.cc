@@ -25,7 +25,11 @@ struct SparseFactorization::Cholmod
   /// A large (supernodal) factor is of P A P^T, permuted here: row p of it is row order[p] of
   /// A. Empty: CHOLMOD permutes a small (simplicial) factor itself.
   std::vector<int> order;
-  Cholmod() { cholmod_start(&common); }
+  Cholmod()
+  {
+    cholmod_start(&common);
+    common.print = 0; // a matrix that is not positive definite is reported by the caller, not on stderr
+  }
   ~Cholmod()
   {
     if (factor) cholmod_free_factor(&factor, &common);
@@ -50,8 +54,10 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
                                          const std::vector<bool> &fixed)
 {
   if (!factorize_with_cholmod(K, K, 0.0, &fixed))
-    throw SolverError("the stiffness matrix with these supports is singular: the supports do not hold the structure "
-                      "against every rigid motion (a mechanism); add supports");
+    throw SolverError("the stiffness matrix with these supports is singular: either the supports do not hold the "
+                      "structure against every rigid motion (a mechanism; add supports), or the elements have "
+                      "zero-energy modes of their own (e.g. 'Solid/Integration = reduced' on a mesh with one cell "
+                      "across; use 'full')");
 }
 
 namespace
