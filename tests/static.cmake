@@ -52,16 +52,16 @@ flextrack_body_static_test(cli_static_body_loads_between_track_stations body_rin
 # ReducedBody.craig_bampton_of_an_arm_clamped_in_a_block; measured 1.9e-11).
 flextrack_body_static_test(cli_static_body_craig_bampton_interface_exact body_bracket_interface.prm
   -DCOUNT=1 -DMAX_DIFFERENCE=1e-8)
-# Bad input in body scenes: one line naming the file, the entry and what is allowed; exit 2;
-# nothing written.
-function(flextrack_body_static_error_test name prm)
+# Bad input in scenes of tests/static_input (body scenes here, more in static_loads.cmake): one
+# line naming the file, the entry and what is allowed; exit 2; nothing written.
+function(flextrack_static_input_error name prm)
   add_test(NAME ${name}
     COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:flextrack> -DPRM=${CMAKE_CURRENT_SOURCE_DIR}/static_input/${prm}
             -DOUT=${CMAKE_CURRENT_BINARY_DIR}/static_output/${name} ${ARGN}
             -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_static.cmake)
   set_tests_properties(${name} PROPERTIES LABELS "cli;badinput")
 endfunction()
-flextrack_body_static_error_test(cli_bad_input_static_body_load_beyond_arm body_load_beyond_arm.prm
+flextrack_static_input_error(cli_bad_input_static_body_load_beyond_arm body_load_beyond_arm.prm
   "-DEXPECT_ERROR=^flextrack: error: [^\n]*body_load_beyond_arm.prm: entry 'Load case tip/Point forces': point force on arm 'ring' at s = 2 m lies beyond the arm \\(its length is L = 1.5708 m\\); allowed: 0 <= s <= L\n$")
-flextrack_body_static_error_test(cli_bad_input_static_body_unknown_arm body_unknown_arm.prm
+flextrack_static_input_error(cli_bad_input_static_body_unknown_arm body_unknown_arm.prm
   "-DEXPECT_ERROR=^flextrack: error: [^\n]*body_unknown_arm.prm: entry 'Load case tip/Point forces': 'boom' is not an arm of the body; allowed: ring\n$")

@@ -6,19 +6,12 @@ add_test(NAME cli_static_pressure_and_support_displacements_match_closed_forms
           ${CMAKE_CURRENT_SOURCE_DIR}/static_input ${CMAKE_CURRENT_BINARY_DIR}/static_output/loads)
 set_tests_properties(cli_static_pressure_and_support_displacements_match_closed_forms PROPERTIES LABELS cli TIMEOUT 600)
 
-# Bad input: one line naming the file, the entry and what is allowed; exit 2; nothing written.
-function(flextrack_static_input_error name prm pattern)
-  add_test(NAME ${name}
-    COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:flextrack> -DPRM=${CMAKE_CURRENT_SOURCE_DIR}/static_input/${prm}
-            -DOUT=${CMAKE_CURRENT_BINARY_DIR}/static_output/${name} "-DEXPECT_ERROR=${pattern}"
-            -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_static.cmake)
-  set_tests_properties(${name} PROPERTIES LABELS "cli;badinput")
-endfunction()
+# Bad input (flextrack_static_input_error, tests/static.cmake).
 flextrack_static_input_error(cli_bad_input_static_settlement_without_support settlement_off_support.prm
-  "^flextrack: error: [^\n]*settlement_off_support.prm: entry 'Load case settle/Support displacements': there is no pinned or clamped support at s = 1 m; allowed: the arc lengths \\[m\\] of the supports: 0, 2\n$")
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*settlement_off_support.prm: entry 'Load case settle/Support displacements': there is no pinned or clamped support at s = 1 m; allowed: the arc lengths \\[m\\] of the supports: 0, 2\n$")
 flextrack_static_input_error(cli_bad_input_static_settlement_in_a_free_component settlement_free_component.prm
-  "^flextrack: error: [^\n]*settlement_free_component.prm: entry 'Load case stretch/Support displacements': the support 'x = 0' does not fix the y component, so it cannot prescribe it; allowed: 0 there\n$")
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*settlement_free_component.prm: entry 'Load case stretch/Support displacements': the support 'x = 0' does not fix the y component, so it cannot prescribe it; allowed: 0 there\n$")
 flextrack_static_input_error(cli_bad_input_static_pressure_without_faces pressure_on_an_edge.prm
-  "^flextrack: error: [^\n]*pressure_on_an_edge.prm: entry 'Load case push/Pressures': node set 'EDGE' holds no whole boundary face.*allowed: a set of boundary faces")
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*pressure_on_an_edge.prm: entry 'Load case push/Pressures': node set 'EDGE' holds no whole boundary face.*allowed: a set of boundary faces")
 flextrack_static_input_error(cli_bad_input_static_iterative_solver_on_an_arm iterative_arm.prm
-  "^flextrack: error: [^\n]*iterative_arm.prm: entry 'Static/Linear solver': 'iterative' is for solid scenes; an arm's factor is small and exact: allowed here: 'direct'\n$")
+  "-DEXPECT_ERROR=^flextrack: error: [^\n]*iterative_arm.prm: entry 'Static/Linear solver': 'iterative' is for solid scenes; an arm's factor is small and exact: allowed here: 'direct'\n$")

@@ -114,16 +114,19 @@ Vector<double> CurvedBeamModel::section_force_field(const Vector<double> &u) con
 {
   // Each cell's values at its nodes, averaged where cells meet (a point load's jump in the
   // shear force is drawn as a linear change over the neighbouring cells).
+  // The six components share the nodes of the scalar element: evaluate once per node.
   Vector<double> field(dofs.n_dofs()), count(dofs.n_dofs());
-  const auto &points = fe.get_unit_support_points();
+  const auto &nodes = fe.base_element(0).get_unit_support_points();
   std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
   for (const auto &cell : dofs.active_cell_iterators())
     {
       cell->get_dof_indices(local);
+      std::vector<SectionForces> at_node;
+      for (const auto &x : nodes) at_node.push_back(section_forces_in(cell, x[0], u));
       for (unsigned int i = 0; i < local.size(); ++i)
         {
-          const unsigned int c = fe.system_to_component_index(i).first;
-          field[local[i]] += section_forces_in(cell, points[i][0], u).values[c];
+          const auto [c, node] = fe.system_to_component_index(i);
+          field[local[i]] += at_node[node].values[c];
           count[local[i]] += 1;
         }
     }

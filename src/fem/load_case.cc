@@ -176,17 +176,7 @@ SupportDisplacement solid_support_displacement(const std::string &where, const s
   SupportDisplacement d;
   d.label = base::trim(where);
   const Tensor<1, 3> u = vector3(value, entry, "support displacement", support_displacement_range);
-  const auto eq = d.label.find('=');
-  std::string upper = d.label;
-  for (auto &c : upper) c = std::toupper(static_cast<unsigned char>(c));
-  int axis = -1;
-  double position = 0;
-  if (eq != std::string::npos)
-    {
-      const std::string a = base::trim(d.label.substr(0, eq));
-      axis = a.size() == 1 && a[0] >= 'x' && a[0] <= 'z' ? a[0] - 'x' : -1;
-      position = base::parse_number(d.label.substr(eq + 1), entry, "the plane position [m]");
-    }
+  const SolidSupport place = parse_support_place(d.label, entry);
   // Every support written at this place (a place may be listed more than once, e.g.
   // 'x = 0: x; x = 0: y'): the value may be non-zero only in the components one of them fixes.
   std::string allowed;
@@ -195,11 +185,7 @@ SupportDisplacement solid_support_displacement(const std::string &where, const s
     {
       const auto &support = solid.supports[k];
       allowed += (allowed.empty() ? "" : ", ") + support.text.substr(0, support.text.find(':'));
-      const bool same = support.plane_axis < 0
-                          ? eq == std::string::npos && support.node_set == upper
-                          : axis == support.plane_axis &&
-                              std::abs(position - support.plane_position) <= 1e-12 * std::max(1.0, std::abs(position));
-      if (!same) continue;
+      if (!same_place(place, support)) continue;
       d.supports.push_back(k);
       for (unsigned int c = 0; c < 3; ++c) fixed[c] = fixed[c] || support.fixed[c];
     }

@@ -95,6 +95,37 @@ void Solid::declare_parameters(ParameterHandler &prm)
   prm.leave_subsection();
 }
 
+SolidSupport parse_support_place(const std::string &place, const std::string &entry)
+{
+  SolidSupport support;
+  std::string where = base::trim(place);
+  const auto eq = where.find('=');
+  if (eq != std::string::npos)
+    {
+      const std::string axis = base::trim(where.substr(0, eq));
+      if (axis != "x" && axis != "y" && axis != "z")
+        throw InputError(entry, "'" + base::printable_excerpt(where) +
+                                  "': a plane is 'x = value', 'y = value' or 'z = value' [m]");
+      support.plane_axis = axis[0] - 'x';
+      support.plane_position = geometry::checked_number(
+        base::parse_number(where.substr(eq + 1), entry, "the plane position [m]"), entry,
+        {-geometry::max_coordinate, geometry::max_coordinate, true, "m"});
+    }
+  else
+    {
+      for (auto &c : where) c = std::toupper(static_cast<unsigned char>(c));
+      support.node_set = where;
+    }
+  return support;
+}
+
+bool same_place(const SolidSupport &a, const SolidSupport &b)
+{
+  if (a.plane_axis < 0 || b.plane_axis < 0) return a.plane_axis == b.plane_axis && a.node_set == b.node_set;
+  return a.plane_axis == b.plane_axis &&
+         std::abs(a.plane_position - b.plane_position) <= 1e-12 * std::max(1.0, std::abs(a.plane_position));
+}
+
 Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &directory)
 {
   Solid s;
@@ -141,34 +172,16 @@ Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &director
 
   for (const auto &[place, components] : base::named_items(prm.get("Supports"), entry, "node set or plane: components"))
     {
-      SolidSupport support;
+      SolidSupport support = parse_support_place(place, entry);
       support.text = place + ": " + components;
-      std::string where = place;
-      const auto eq = where.find('=');
-      if (eq != std::string::npos)
+      if (support.plane_axis < 0 && !s.mesh->node_sets.count(support.node_set))
         {
-          const std::string axis = base::trim(where.substr(0, eq));
-          if (axis != "x" && axis != "y" && axis != "z")
-            throw InputError(entry, "'" + base::printable_excerpt(where) +
-                                      "': a plane is 'x = value', 'y = value' or 'z = value' [m]");
-          support.plane_axis = axis[0] - 'x';
-          support.plane_position = geometry::checked_number(
-            base::parse_number(where.substr(eq + 1), entry, "the plane position [m]"), entry,
-            {-geometry::max_coordinate, geometry::max_coordinate, true, "m"});
-        }
-      else
-        {
-          for (auto &c : where) c = std::toupper(static_cast<unsigned char>(c));
-          if (!s.mesh->node_sets.count(where))
-            {
-              std::string names;
-              for (const auto &[name, nodes] : s.mesh->node_sets) names += (names.empty() ? "" : ", ") + name;
-              throw InputError(entry, "node set '" + base::printable_excerpt(where) + "' does not exist in " +
-                                        s.mesh->source + "; allowed: " +
-                                        (names.empty() ? "(the mesh has no node sets)" : base::printable_excerpt(names, 200)) +
-                                        ", or a plane 'x = value'");
-            }
-          support.node_set = where;
+          std::string names;
+          for (const auto &[name, nodes] : s.mesh->node_sets) names += (names.empty() ? "" : ", ") + name;
+          throw InputError(entry, "node set '" + base::printable_excerpt(support.node_set) + "' does not exist in " +
+                                    s.mesh->source + "; allowed: " +
+                                    (names.empty() ? "(the mesh has no node sets)" : base::printable_excerpt(names, 200)) +
+                                    ", or a plane 'x = value'");
         }
       support.fixed = {false, false, false};
       for (const auto &c : base::split(components, ','))

@@ -35,6 +35,12 @@ struct Solid
   static void declare_parameters(dealii::ParameterHandler &prm);
   static Solid parse_parameters(dealii::ParameterHandler &prm, const std::string &directory);
 };
+/// The place of a support as written before ':' in Solid/Supports: a node set (upper-cased; not
+/// checked against a mesh here) or a plane 'x = value' [m]; InputError naming @p entry for a
+/// malformed plane. The components are left unset.
+SolidSupport parse_support_place(const std::string &place, const std::string &entry);
+/// Whether @p a and @p b act at the same place (the same node set, or the same plane to 1e-12).
+bool same_place(const SolidSupport &a, const SolidSupport &b);
 /// Refuses a mesh of @p cells hexahedra (after any refinement) beyond 1000000 cells or beyond a
 /// lower estimate of the memory it needs on this computer, before anything is allocated:
 /// InputError naming @p entry, with the estimate.

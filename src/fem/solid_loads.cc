@@ -220,8 +220,6 @@ Vector<double> SolidModel::support_displacements(const LoadCase &load_case) cons
   if (load_case.support_displacements.empty()) return g;
   const auto points = support_points();
   const auto component = dof_components();
-  double size = 0;
-  for (const auto &v : body.mesh->triangulation.get_vertices()) size = std::max(size, v.norm());
   // Which item set each dof: two items that share nodes must agree there (a listed support
   // sharing nodes with one that is not listed moves them: the listed value applies).
   std::vector<int> set_by(dofs.n_dofs(), -1);
@@ -239,24 +237,7 @@ Vector<double> SolidModel::support_displacements(const LoadCase &load_case) cons
     {
       const auto &d = load_case.support_displacements[item];
       for (const unsigned int k : d.supports)
-        {
-          const SolidSupport &support = body.supports.at(k);
-          // The same dofs as SolidModel::apply_supports fixes for this support.
-          if (support.plane_axis >= 0)
-            {
-              for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
-                if (std::abs(points[i][support.plane_axis] - support.plane_position) <= 1e-9 * std::max(size, 1.0) &&
-                    support.fixed[component[i]])
-                  prescribe(i, item, d.value[component[i]]);
-            }
-          else
-            for (const auto &node : body.mesh->node_sets.at(support.node_set))
-              {
-                const auto at = node_dofs(node);
-                for (unsigned int c = 0; c < at.size(); ++c)
-                  if (support.fixed[c]) prescribe(at[c], item, d.value[c]);
-              }
-        }
+        for (const auto i : support_dofs(body.supports.at(k), points, component)) prescribe(i, item, d.value[component[i]]);
     }
   return g;
 }

@@ -175,11 +175,34 @@ std::vector<unsigned int> SolidModel::dof_components() const
   return component;
 }
 
+std::vector<types::global_dof_index> SolidModel::support_dofs(const SolidSupport &support,
+                                                               const std::vector<Point<3>> &points,
+                                                               const std::vector<unsigned int> &component) const
+{
+  std::vector<types::global_dof_index> held;
+  if (support.plane_axis >= 0)
+    {
+      double size = 0;
+      for (const auto &v : body.mesh->triangulation.get_vertices()) size = std::max(size, v.norm());
+      for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+        if (std::abs(points[i][support.plane_axis] - support.plane_position) <= 1e-9 * std::max(size, 1.0) &&
+            support.fixed[component[i]])
+          held.push_back(i);
+    }
+  else
+    for (const auto &node : body.mesh->node_sets.at(support.node_set))
+      {
+        const auto node_dof = node_dofs(node);
+        for (unsigned int c = 0; c < node_dof.size(); ++c)
+          if (support.fixed[c]) held.push_back(node_dof[c]);
+      }
+  return held;
+}
+
 void SolidModel::apply_supports()
 {
   std::vector<Point<3>> points;
-  double size = 0;
-  for (const auto &v : body.mesh->triangulation.get_vertices()) size = std::max(size, v.norm());
+  std::vector<unsigned int> component;
   auto fix = [&](types::global_dof_index dof) {
     if (!supports.is_constrained(dof)) supports.add_line(dof);
   };
@@ -189,29 +212,19 @@ void SolidModel::apply_supports()
 
   for (const auto &support : body.supports)
     {
-      if (support.plane_axis >= 0)
+      if (support.plane_axis >= 0 || level == 0)
         {
-          if (points.empty()) points = support_points();
-          bool any = false;
-          const std::vector<unsigned int> component = dof_components();
-          for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
-            if (std::abs(points[i][support.plane_axis] - support.plane_position) <= 1e-9 * std::max(size, 1.0) &&
-                support.fixed[component[i]])
-              {
-                fix(i);
-                any = true;
-              }
-          if (!any)
+          if (support.plane_axis >= 0 && points.empty())
+            {
+              points = support_points();
+              component = dof_components();
+            }
+          const auto held = support_dofs(support, points, component);
+          if (held.empty() && support.plane_axis >= 0)
             throw InputError("Solid/Supports", "the plane in '" + support.text + "' contains no node of " +
                              body.mesh->source);
+          for (const auto i : held) fix(i);
         }
-      else if (level == 0)
-        for (const auto &node : body.mesh->node_sets.at(support.node_set))
-          {
-            const auto node_dof = node_dofs(node);
-            for (unsigned int c = 0; c < node_dof.size(); ++c)
-              if (support.fixed[c]) fix(node_dof[c]);
-          }
       else
         {
           std::vector<bool> mask = {support.fixed[0], support.fixed[1], support.fixed[2]};

@@ -78,6 +78,12 @@ public:
 private:
   /// The displacement component (0, 1, 2) of every dof.
   std::vector<unsigned int> dof_components() const;
+  /// The dofs that @p support fixes: on its plane (any refinement), or at its node set's nodes
+  /// (refinement 0). @p points, @p component: support_points() and dof_components() (needed for
+  /// a plane only).
+  std::vector<dealii::types::global_dof_index> support_dofs(const SolidSupport &support,
+                                                            const std::vector<dealii::Point<3>> &points,
+                                                            const std::vector<unsigned int> &component) const;
   /// Stiffness (and mass, if @p m_cell) matrix of @p cell, lower triangles (j <= i) only.
   void cell_matrices(dealii::FEValues<3> &values, const dealii::DoFHandler<3>::active_cell_iterator &cell,
                      dealii::FullMatrix<double> &k_cell, dealii::FullMatrix<double> *m_cell) const;

@@ -99,12 +99,12 @@ void StaticSolver::refuse_mechanism() const
   if (m == 0) return;
   dealii::LAPACKFullMatrix<double> gram(m, m);
   for (unsigned int a = 0; a < m; ++a)
-    for (unsigned int b = 0; b < m; ++b)
+    for (unsigned int b = 0; b <= a; ++b)
       {
         double sum = 0;
         for (std::size_t i = 0; i < R[a].size(); ++i)
           if (fixed.is_constrained(i)) sum += R[a][i] * R[b][i];
-        gram(a, b) = sum / (R[a].l2_norm() * R[b].l2_norm());
+        gram(a, b) = gram(b, a) = sum / (R[a].l2_norm() * R[b].l2_norm());
       }
   gram.compute_eigenvalues();
   double smallest = std::numeric_limits<double>::max(), largest = 0;
@@ -149,30 +149,30 @@ void StaticSolver::solve_supported(const double *b, double *x, const std::size_t
 
 StaticSolver::~StaticSolver() = default;
 
-/// r = K u - f with every row's sum accumulated in long double (64-bit mantissa on x86): the
-/// terms K_ij u_j of a bending solution are 1e4..1e6 times their sum, so a double sum loses the
-/// digits that the reactions and the refinement need. With StaticSolverSettings::internal_forces
-/// K u is the model's own cell-by-cell sum instead (see there).
+std::vector<long double> long_double_product(const dealii::TrilinosWrappers::SparseMatrix &A,
+                                             const std::vector<long double> &u)
+{
+  const auto &a = A.trilinos_matrix();
+  std::vector<long double> Au(A.m(), 0.0L);
+  for (int row = 0; row < a.NumMyRows(); ++row)
+    {
+      int count = 0;
+      double *values = nullptr;
+      int *columns = nullptr;
+      a.ExtractMyRowView(row, count, values, columns);
+      long double sum = 0;
+      for (int c = 0; c < count; ++c) sum += static_cast<long double>(values[c]) * u[a.ColMap().GID(columns[c])];
+      Au[static_cast<std::size_t>(a.RowMap().GID(row))] = sum;
+    }
+  return Au;
+}
+
+/// r = K u - f with K u summed in long double (long_double_product), or from the model's own
+/// cell-by-cell internal forces (StaticSolverSettings::internal_forces).
 std::vector<long double> StaticSolver::accurate_residual(const std::vector<long double> &u,
                                                          const dealii::Vector<double> &f) const
 {
-  std::vector<long double> r(K.m());
-  if (settings.internal_forces)
-    r = settings.internal_forces(u);
-  else
-    {
-      const auto &a = K.trilinos_matrix();
-      for (int row = 0; row < a.NumMyRows(); ++row)
-        {
-          int count = 0;
-          double *values = nullptr;
-          int *columns = nullptr;
-          a.ExtractMyRowView(row, count, values, columns);
-          long double sum = 0;
-          for (int c = 0; c < count; ++c) sum += static_cast<long double>(values[c]) * u[a.ColMap().GID(columns[c])];
-          r[static_cast<std::size_t>(a.RowMap().GID(row))] = sum;
-        }
-    }
+  std::vector<long double> r = settings.internal_forces ? settings.internal_forces(u) : long_double_product(K, u);
   for (std::size_t i = 0; i < r.size(); ++i) r[i] -= f[i];
   return r;
 }

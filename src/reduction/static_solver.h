@@ -34,6 +34,12 @@ struct StaticSolution
   double residual = 0;
 };
 
+/// A u with every row's sum accumulated in long double (64-bit mantissa on x86): the terms
+/// A_ij u_j of a bending solution are 1e4..1e6 times their sum, so a double sum loses the digits
+/// that reactions and refinement need.
+std::vector<long double> long_double_product(const dealii::TrilinosWrappers::SparseMatrix &A,
+                                             const std::vector<long double> &u);
+
 /// How the supported system is solved.
 struct StaticSolverSettings
 {

@@ -520,22 +520,13 @@ TEST(SolidStatics, reactions_balance_the_applied_loads_to_round_off)
   const SolidStatics st("6, 1, 1", macneal_harder_cases + "subsection Static\n set Load cases = extension, in_plane, "
                                    "out_of_plane, twist, weight\nend\n"
                                    "subsection Load case weight\n set Gravity = 0, 0, -9.81\nend\n");
-  const auto &a = st.model->stiffness_matrix().trilinos_matrix();
   for (unsigned int c = 0; c < st.loads.size(); ++c)
     {
       const auto &u = st.solutions[c].u;
       // For comparison: R^T K u with the assembled K, row by row in long double.
+      const auto Ku_ld = reduction::long_double_product(st.model->stiffness_matrix(), {u.begin(), u.end()});
       dealii::Vector<double> Ku(u.size());
-      for (int row = 0; row < a.NumMyRows(); ++row)
-        {
-          int count = 0;
-          double *values = nullptr;
-          int *columns = nullptr;
-          a.ExtractMyRowView(row, count, values, columns);
-          long double sum = 0;
-          for (int q = 0; q < count; ++q) sum += static_cast<long double>(values[q]) * u[a.ColMap().GID(columns[q])];
-          Ku[a.RowMap().GID(row)] = static_cast<double>(sum);
-        }
+      for (std::size_t i = 0; i < Ku.size(); ++i) Ku[i] = static_cast<double>(Ku_ld[i]);
       const auto RKu = st.model->nodal_resultant(Ku);
       const auto [applied, reaction] = st.resultants(c);
       const double L = 6, F = std::max(applied.force.norm(), applied.moment.norm() / L);
