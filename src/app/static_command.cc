@@ -173,12 +173,14 @@ std::string cases_json(const Report &report)
   return list + "]";
 }
 
-/// Solves every load case on @p model and fills the common parts of the cases.
+/// Solves every load case on @p model and fills the common parts of the cases; the nodal load
+/// vectors are left in @p loads.
 template <typename Model>
 std::vector<reduction::StaticSolution> solve_cases(const Model &model, const io::ArmScene &scene, Report &report,
-                                                   TimerOutput &timer, reduction::StaticSolverSettings settings = {})
+                                                   TimerOutput &timer, std::vector<Vector<double>> &loads,
+                                                   reduction::StaticSolverSettings settings = {})
 {
-  std::vector<Vector<double>> loads, settlements;
+  std::vector<Vector<double>> settlements;
   {
     TimerOutput::Scope t(timer, "assemble loads");
     for (const auto &c : scene.load_cases)
@@ -245,7 +247,8 @@ Report arm_statics(const io::ArmScene &scene, TimerOutput &timer)
       report.labels.push_back(label.str());
       report.csv_fields.push_back(fields.str());
     }
-  const auto solutions = solve_cases(*model, scene, report, timer);
+  std::vector<Vector<double>> loads;
+  const auto solutions = solve_cases(*model, scene, report, timer, loads);
   for (std::size_t i = 0; i < solutions.size(); ++i)
     {
       auto &r = report.cases[i];
@@ -311,7 +314,8 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
     // Residuals from the cell-by-cell internal forces: reactions balance the loads to round-off
     // (reduction/static_solver.h); each refinement step then costs one assembly.
     settings.internal_forces = [model](const std::vector<long double> &u) { return model->internal_forces(u); };
-  const auto solutions = solve_cases(*model, scene, report, timer, std::move(settings));
+  std::vector<Vector<double>> loads;
+  const auto solutions = solve_cases(*model, scene, report, timer, loads, std::move(settings));
   for (std::size_t i = 0; i < solutions.size(); ++i)
     {
       auto &r = report.cases[i];
@@ -322,7 +326,7 @@ Report solid_statics(const io::ArmScene &scene, TimerOutput &timer)
           r.values.push_back({u[0], u[1], u[2], theta[0], theta[1], theta[2]});
         }
       // Isoparametric elements: the nodal load vector has the resultant of the loads it stands for.
-      r.applied = model->nodal_resultant(model->load_vector(scene.load_cases[i]));
+      r.applied = model->nodal_resultant(loads[i]);
       r.reactions = model->nodal_resultant(solutions[i].reaction);
     }
   const unsigned int subdivisions = std::min(scene.output.subdivisions, 2u);
