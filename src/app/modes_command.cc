@@ -26,6 +26,7 @@
 #include <optional>
 #include <iostream>
 #include <sstream>
+#include <type_traits>
 
 namespace flextrack::app
 {
@@ -48,9 +49,11 @@ struct Model
   std::unique_ptr<fem::SolidModel> solid;
 };
 
-/// The lowest modes of a built FE model (arm or solid), with the scene's file in any error.
+/// The lowest modes of a built FE model (arm or solid), with the scene's file in any error. A
+/// solid's K and M are released on the way (the eigen solve's memory is the factor's, M is
+/// applied cell by cell): the model keeps its mesh, dofs and mass_operator() for output.
 template <typename ModelType>
-ModalRun solve(const ModelType &model, const io::ArmScene &scene, TimerOutput &timer)
+ModalRun solve(ModelType &model, const io::ArmScene &scene, TimerOutput &timer)
 {
   ModalRun run;
   run.n_dofs = model.n_dofs();
@@ -59,7 +62,10 @@ ModalRun solve(const ModelType &model, const io::ArmScene &scene, TimerOutput &t
   TimerOutput::Scope t(timer, "eigen solve");
   try
     {
-      run.modes = reduction::lowest_modes(model, scene.modal);
+      if constexpr (std::is_same_v<ModelType, fem::SolidModel>)
+        run.modes = reduction::lowest_modes_releasing_matrices(model, scene.modal);
+      else
+        run.modes = reduction::lowest_modes(model, scene.modal);
     }
   catch (const InputError &e)
     {
@@ -147,7 +153,11 @@ std::optional<Participation> participation(const Model &model, const reduction::
 {
   if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1) return std::nullopt;
   const reduction::DofLayout layout = model.arm ? reduction::dof_layout(*model.arm) : reduction::dof_layout(*model.solid);
-  const auto &M = model.arm ? model.arm->mass_matrix() : model.solid->mass_matrix();
+  const reduction::MassProduct M =
+    model.arm ? reduction::product_with(model.arm->mass_matrix())
+              : reduction::MassProduct([&solid = *model.solid](const Vector<double> &x, Vector<double> &y) {
+                  solid.mass_operator().vmult(x.begin(), y.begin());
+                });
   const Point<3> x_ref(settings.participation_reference[0], settings.participation_reference[1],
                        settings.participation_reference[2]);
   Participation p;

@@ -367,4 +367,30 @@ void SolidModel::assemble()
   base::release_free_heap();
   base::probe_memory("solid K and M assembled");
 }
+
+const SolidMassOperator &SolidModel::mass_operator() const
+{
+  if (!cell_mass)
+    {
+      std::vector<bool> held(dofs.n_dofs(), false);
+      if (constrained_assembly)
+        for (const auto &line : supports.get_lines())
+          {
+            // The assembled M drops the rows and columns of supported dofs; a support is a
+            // homogeneous constraint u_i = 0 (no other kind is made here).
+            Assert(line.entries.empty() && line.inhomogeneity == 0, ExcInternalError());
+            held[line.index] = true;
+          }
+      cell_mass = std::make_unique<SolidMassOperator>(dofs, *map, QGauss<3>(body.gauss_points), body.material.density,
+                                                      std::move(held));
+    }
+  return *cell_mass;
+}
+
+void SolidModel::release_matrices()
+{
+  stiffness.clear();
+  mass.clear();
+  base::release_free_heap();
+}
 } // namespace flextrack::fem

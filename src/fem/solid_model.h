@@ -14,6 +14,7 @@
 
 #include <fem/load_case.h>
 #include <fem/solid.h>
+#include <fem/solid_mass_operator.h>
 
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -45,6 +46,13 @@ public:
   const dealii::TrilinosWrappers::SparseMatrix &stiffness_matrix() const { return stiffness; }
   /// Consistent mass; rows of supported dofs are zero (if the matrices are constrained).
   const dealii::TrilinosWrappers::SparseMatrix &mass_matrix() const { return mass; }
+  /// The consistent mass applied cell by cell (fem/solid_mass_operator.h): the product of
+  /// mass_matrix() in a small fraction of its memory, also after release_matrices(). Built on
+  /// first use.
+  const SolidMassOperator &mass_operator() const;
+  /// Frees K and M: stiffness_matrix() and mass_matrix() are empty afterwards. The eigen solve
+  /// of a large solid calls it once the factorisation has its own copy of K - sigma M.
+  void release_matrices();
   const dealii::AffineConstraints<double> &constraints() const { return supports; }
   unsigned int n_dofs() const { return dofs.n_dofs(); }
   unsigned int n_free_dofs() const { return dofs.n_dofs() - supports.n_constraints(); }
@@ -109,5 +117,6 @@ private:
   dealii::AffineConstraints<double> supports;
   std::map<MeshNode, std::vector<dealii::types::global_dof_index>> dofs_at_node;
   dealii::TrilinosWrappers::SparseMatrix stiffness, mass;
+  mutable std::unique_ptr<SolidMassOperator> cell_mass;
 };
 } // namespace flextrack::fem

@@ -112,20 +112,23 @@ unsigned int ModalParticipation::dominant_direction(const std::size_t k) const
   return fraction(k, best) > 1e-3 ? best : 6;
 }
 
-ModalParticipation modal_participation(const std::vector<Vector<double>> &shapes,
-                                       const TrilinosWrappers::SparseMatrix &M, const DofLayout &layout,
-                                       const Point<3> &x_ref)
+MassProduct product_with(const TrilinosWrappers::SparseMatrix &M)
+{
+  return [&M](const Vector<double> &x, Vector<double> &y) { M.vmult(y, x); };
+}
+
+ModalParticipation modal_participation(const std::vector<Vector<double>> &shapes, const MassProduct &M,
+                                       const DofLayout &layout, const Point<3> &x_ref)
 {
   ModalParticipation p;
   p.reference_point = x_ref;
-  const std::size_t n = M.m();
-  Assert(layout.component.size() == n, ExcDimensionMismatch(layout.component.size(), n));
+  const std::size_t n = layout.component.size();
   const auto r = rigid_motions(layout, x_ref);
   std::array<Vector<double>, 6> Mr;
   for (unsigned int d = 0; d < 6; ++d)
     {
       Mr[d].reinit(n);
-      M.vmult(Mr[d], r[d]);
+      M(r[d], Mr[d]);
       p.total_mass[d] = r[d] * Mr[d];
     }
   for (const auto &phi : shapes)
@@ -145,7 +148,7 @@ ModalParticipation modal_participation(const std::vector<Vector<double>> &shapes
 namespace
 {
 /// Kinetic energies phi_c^T M phi_c of the four parts of an arm's mode (see the header).
-std::array<double, 4> arm_energies(const Vector<double> &phi, const TrilinosWrappers::SparseMatrix &M,
+std::array<double, 4> arm_energies(const Vector<double> &phi, const MassProduct &M,
                                    const std::vector<DofLayout::SectionNode> &nodes)
 {
   std::array<Vector<double>, 4> part;
@@ -174,15 +177,15 @@ std::array<double, 4> arm_energies(const Vector<double> &phi, const TrilinosWrap
   Vector<double> Mv(phi.size());
   for (unsigned int k = 0; k < 4; ++k)
     {
-      M.vmult(Mv, part[k]);
+      M(part[k], Mv);
       energy[k] = part[k] * Mv;
     }
   return energy;
 }
 } // namespace
 
-std::vector<ModeClass> classify_modes(const std::vector<Vector<double>> &shapes,
-                                      const TrilinosWrappers::SparseMatrix &M, const DofLayout &layout,
+std::vector<ModeClass> classify_modes(const std::vector<Vector<double>> &shapes, const MassProduct &M,
+                                      const DofLayout &layout,
                                       const ModalParticipation &participation)
 {
   std::vector<ModeClass> classes;

@@ -31,6 +31,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -90,9 +91,20 @@ struct ModalParticipation
   unsigned int dominant_direction(std::size_t k) const;
 };
 
-ModalParticipation modal_participation(const std::vector<dealii::Vector<double>> &shapes,
-                                       const dealii::TrilinosWrappers::SparseMatrix &M, const DofLayout &layout,
-                                       const dealii::Point<3> &x_ref = dealii::Point<3>());
+/// y = M x with the model's consistent mass: an assembled matrix, or a solid's cell-by-cell
+/// product (fem::SolidMassOperator) once its matrices are released.
+using MassProduct = std::function<void(const dealii::Vector<double> &x, dealii::Vector<double> &y)>;
+/// The product of an assembled M.
+MassProduct product_with(const dealii::TrilinosWrappers::SparseMatrix &M);
+
+ModalParticipation modal_participation(const std::vector<dealii::Vector<double>> &shapes, const MassProduct &M,
+                                       const DofLayout &layout, const dealii::Point<3> &x_ref = dealii::Point<3>());
+inline ModalParticipation modal_participation(const std::vector<dealii::Vector<double>> &shapes,
+                                              const dealii::TrilinosWrappers::SparseMatrix &M, const DofLayout &layout,
+                                              const dealii::Point<3> &x_ref = dealii::Point<3>())
+{
+  return modal_participation(shapes, product_with(M), layout, x_ref);
+}
 
 /// A mode's kind: for an arm the largest kinetic-energy share ("axial", "bending in-plane",
 /// "bending out-of-plane", "torsion"), for a solid the dominant direction ("x" .. "rz", or "-").
@@ -110,7 +122,12 @@ inline constexpr std::array<const char *, 4> arm_mode_kinds = {
 
 /// The class of every mode: by energy split where the layout has section nodes (arms), by
 /// effective mass otherwise (solids).
-std::vector<ModeClass> classify_modes(const std::vector<dealii::Vector<double>> &shapes,
-                                      const dealii::TrilinosWrappers::SparseMatrix &M, const DofLayout &layout,
-                                      const ModalParticipation &participation);
+std::vector<ModeClass> classify_modes(const std::vector<dealii::Vector<double>> &shapes, const MassProduct &M,
+                                      const DofLayout &layout, const ModalParticipation &participation);
+inline std::vector<ModeClass> classify_modes(const std::vector<dealii::Vector<double>> &shapes,
+                                             const dealii::TrilinosWrappers::SparseMatrix &M, const DofLayout &layout,
+                                             const ModalParticipation &participation)
+{
+  return classify_modes(shapes, product_with(M), layout, participation);
+}
 } // namespace flextrack::reduction

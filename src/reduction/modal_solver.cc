@@ -11,6 +11,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -89,40 +90,34 @@ std::vector<double> Modes::frequencies_hz() const
   return f;
 }
 
-Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
-                   const unsigned int n_free, const ModalSettings &settings, const double shift,
-                   const std::string &amesos_solver)
+namespace
+{
+/// At most n_free - 1 modes: ARPACK needs a Krylov space larger than the wanted modes.
+void check_number_of_modes(const ModalSettings &settings, const unsigned int n_free)
 {
   if (settings.n_modes >= n_free)
     throw InputError("Modal analysis/Number of modes",
                      std::to_string(settings.n_modes) + " modes requested, but the model has only " +
                        std::to_string(n_free) + " free degrees of freedom; allowed: fewer than " +
                        std::to_string(n_free) + " (or refine the mesh)");
-  // Factorise A = K - sigma M once (CHOLMOD is serial: in parallel MUMPS does the work).
-  const bool parallel = Utilities::MPI::n_mpi_processes(K.get_mpi_communicator()) > 1;
-  const SparseFactorization factorization(K, M, shift, parallel && amesos_solver == "cholmod" ? "mumps" : amesos_solver);
-  return lowest_modes(K, M, n_free, settings, shift, factorization);
 }
+} // namespace
 
-Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
-                   const unsigned int n_free, const ModalSettings &settings, const double shift,
-                   const SparseFactorization &factorization)
+namespace
 {
-  // Works on the matrices' own distribution: every process holds its locally owned rows, and
-  // ARPACK's parallel version (PARPACK) runs the Lanczos iteration on those local blocks. A
-  // serial matrix lives on MPI_COMM_SELF.
-  const MPI_Comm comm = K.get_mpi_communicator();
+/// out = M in, on this process' share of the dofs.
+using LocalMassProduct = std::function<void(const double *in, double *out)>;
+
+/// Shift-invert Lanczos on the dofs @p owned (of @p n_global) of this process of @p comm:
+/// every process holds its share of the vectors, and ARPACK's parallel version (PARPACK) runs
+/// the iteration on them (a serial problem lives on MPI_COMM_SELF).
+Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_global, const unsigned int n_free,
+              const ModalSettings &settings, const double shift, const LocalMassProduct &apply_mass,
+              const SparseFactorization &factorization)
+{
   const bool parallel = Utilities::MPI::n_mpi_processes(comm) > 1;
-  const IndexSet &owned = K.locally_owned_range_indices();
   int n_local = owned.n_elements();
   int nev = settings.n_modes;
-
-  TrilinosWrappers::MPI::Vector x(owned, comm), b(owned, comm);
-  auto apply_mass = [&](const double *in, double *out) {
-    std::copy(in, in + n_local, b.begin());
-    M.vmult(x, b);
-    std::copy(x.begin(), x.end(), out);
-  };
   auto apply_inverse = [&](const double *in, double *out) { factorization.solve(in, out); };
   auto dot = [&](const double *u, const double *v) {
     return Utilities::MPI::sum(std::inner_product(u, u + n_local, v, 0.0), comm);
@@ -209,7 +204,7 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
       const double sign_here = std::abs(largest) == global_largest ? (largest < 0 ? -1.0 : 1.0) : 0.0;
       const double sign = Utilities::MPI::max(sign_here, comm) > 0 ? 1.0 : -1.0;
       // The full vector on every process (output needs it), entries at their global indices.
-      Vector<double> shape(K.m());
+      Vector<double> shape(n_global);
       unsigned int j = 0;
       for (const auto i : owned) shape[i] = sign * phi[j++] / norm;
       if (parallel) Utilities::MPI::sum(shape, comm, shape);
@@ -217,6 +212,35 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
       modes.shapes.push_back(std::move(shape));
     }
   return modes;
+}
+} // namespace
+
+Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
+                   const unsigned int n_free, const ModalSettings &settings, const double shift,
+                   const SparseFactorization &factorization)
+{
+  // Works on the matrices' own distribution: every process holds its locally owned rows.
+  const MPI_Comm comm = K.get_mpi_communicator();
+  const IndexSet &owned = K.locally_owned_range_indices();
+  const std::size_t n_local = owned.n_elements();
+  TrilinosWrappers::MPI::Vector x(owned, comm), b(owned, comm);
+  auto apply_mass = [&](const double *in, double *out) {
+    std::copy(in, in + n_local, b.begin());
+    M.vmult(x, b);
+    std::copy(x.begin(), x.end(), out);
+  };
+  return lanczos(comm, owned, K.m(), n_free, settings, shift, apply_mass, factorization);
+}
+
+Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
+                   const unsigned int n_free, const ModalSettings &settings, const double shift,
+                   const std::string &amesos_solver)
+{
+  check_number_of_modes(settings, n_free);
+  // Factorise A = K - sigma M once (CHOLMOD is serial: in parallel MUMPS does the work).
+  const bool parallel = Utilities::MPI::n_mpi_processes(K.get_mpi_communicator()) > 1;
+  const SparseFactorization factorization(K, M, shift, parallel && amesos_solver == "cholmod" ? "mumps" : amesos_solver);
+  return lowest_modes(K, M, n_free, settings, shift, factorization);
 }
 
 double automatic_shift(const fem::Arm &arm)
@@ -255,5 +279,24 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
 Modes lowest_modes(const fem::SolidModel &model, const ModalSettings &settings)
 {
   return lowest_modes(model.stiffness_matrix(), model.mass_matrix(), model.n_free_dofs(), settings);
+}
+
+Modes lowest_modes_releasing_matrices(fem::SolidModel &model, const ModalSettings &settings)
+{
+  const auto &K = model.stiffness_matrix(), &M = model.mass_matrix();
+  const double shift = std::isnan(settings.shift) ? automatic_shift(K, M) : settings.shift;
+  const bool serial = Utilities::MPI::n_mpi_processes(K.get_mpi_communicator()) == 1;
+  const bool cholesky = settings.direct_solver == "auto" || settings.direct_solver == "cholmod";
+  // A positive shift may make K - sigma M indefinite: that needs the fallback to MUMPS, which
+  // needs K and M; under MPI, MUMPS factorises the distributed matrices.
+  if (!serial || !cholesky || shift > 0) return lowest_modes(model, settings);
+  check_number_of_modes(settings, model.n_free_dofs());
+  const SparseFactorization factorization(K, M, shift, [&] { model.release_matrices(); });
+  // Made after the factor, so that its memory (a twentieth of the factor's) does not add to
+  // the factorisation's peak.
+  const fem::SolidMassOperator &mass = model.mass_operator();
+  const std::size_t n = model.n_dofs();
+  return lanczos(MPI_COMM_SELF, complete_index_set(n), n, model.n_free_dofs(), settings, shift,
+                 [&](const double *in, double *out) { mass.vmult(in, out); }, factorization);
 }
 } // namespace flextrack::reduction

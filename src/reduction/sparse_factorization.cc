@@ -60,6 +60,16 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
                       "across; use 'full')");
 }
 
+SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
+                                         const dealii::TrilinosWrappers::SparseMatrix &M, const double sigma,
+                                         const std::function<void()> &release)
+{
+  if (!factorize_with_cholmod(K, M, sigma, nullptr, release))
+    throw SolverError("K - sigma M is not positive definite (sigma = " + std::to_string(sigma) +
+                      " rad^2/s^2): the shift is at or above the lowest eigenvalue, or the structure is singular "
+                      "and the shift is 0; set 'Modal analysis/Shift' to 'auto' or a negative value");
+}
+
 namespace
 {
 /// Calls @p use(i, j, a_ij) for every stored entry of the upper triangle (j >= i) of
@@ -123,7 +133,8 @@ void sort_columns(cholmod_sparse *A)
 
 bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
                                                  const dealii::TrilinosWrappers::SparseMatrix &M, const double sigma,
-                                                 const std::vector<bool> *fixed)
+                                                 const std::vector<bool> *fixed,
+                                                 const std::function<void()> &release)
 {
   // Memory is the limit of large eigen solves (the factor is most of it), so CHOLMOD gets A
   // once: first the fill-reducing ordering P from A's pattern alone, then A already permuted,
@@ -193,10 +204,17 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
       sort_columns(A);
       cholmod->factor = symbolic;
     }
+  if (release)
+    {
+      release(); // K and M: from here on only CHOLMOD's A and factor are needed
+      base::release_free_heap();
+    }
   if (cholmod->factor) cholmod_factorize(A, cholmod->factor, &common);
   base::probe_memory("Cholesky factor of A made");
   const bool positive_definite = cholmod->factor && common.status == CHOLMOD_OK;
   cholmod_free_sparse(&A, &common);
+  base::release_free_heap(); // A's pages, before the solves
+  base::probe_memory("A freed");
   if (!positive_definite)
     {
       cholmod.reset();

@@ -8,6 +8,7 @@
 
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -30,6 +31,13 @@ public:
   /// there. No copy of K is made. SolverError if that matrix is not positive definite (a
   /// mechanism: the supports do not hold every rigid motion).
   SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K, const std::vector<bool> &fixed);
+  /// The Cholesky factor of A = K - sigma M in the least memory: @p release is called as soon as
+  /// CHOLMOD's copy of A is built, before the factorisation, so that the caller frees K and M
+  /// there (they are not touched afterwards). SolverError if A is not positive definite: there
+  /// is no fallback to another method, since K and M may be gone.
+  SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
+                      const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,
+                      const std::function<void()> &release);
   ~SparseFactorization();
   /// x = A^{-1} b for arrays of A.m() entries.
   void solve(const double *b, double *x) const;
@@ -49,7 +57,8 @@ private:
   /// Cholesky of A; false if A is not positive definite.
   bool factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
                               const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,
-                              const std::vector<bool> *fixed = nullptr);
+                              const std::vector<bool> *fixed = nullptr,
+                              const std::function<void()> &release = {});
   void factorize_with_amesos(const std::string &method);
 };
 } // namespace flextrack::reduction
