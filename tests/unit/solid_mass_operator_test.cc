@@ -1,6 +1,8 @@
 // The cell-by-cell mass product of a solid (fem/solid_mass_operator.h) and the eigen solve that
 // releases K and M before the factorisation (reduction::lowest_modes_releasing_matrices): both
 // against the assembled matrices, which the solid tests check against CalculiX.
+#include "steel_solid.h"
+
 #include <fem/solid_model.h>
 #include <reduction/modal_solver.h>
 
@@ -13,20 +15,6 @@ using namespace flextrack;
 
 namespace
 {
-fem::Solid steel(std::shared_ptr<const fem::SolidMesh> mesh, const std::string &clamped_set)
-{
-  fem::Solid s;
-  s.mesh = std::move(mesh);
-  s.material.youngs_modulus = 2.1e11;
-  s.material.poisson_ratio = 0.3;
-  s.material.shear_modulus = 2.1e11 / 2.6;
-  s.material.density = 7850;
-  fem::SolidSupport clamp;
-  clamp.node_set = clamped_set;
-  s.supports = {clamp};
-  return s;
-}
-
 /// A vector with entries of both signs and no pattern (deterministic).
 dealii::Vector<double> test_vector(const unsigned int n)
 {
@@ -45,7 +33,7 @@ TEST(SolidMassOperator, product_equals_the_assembled_supported_mass_matrix_for_e
   for (const auto [element, gauss] : {std::pair{fem::SolidElement::hex20, 3u}, {fem::SolidElement::hex20, 2u},
                                       {fem::SolidElement::hex8, 2u}, {fem::SolidElement::hex27, 3u}})
     {
-      fem::Solid body = steel(mesh, "XMIN");
+      fem::Solid body = test_support::steel_solid(mesh, "XMIN");
       body.element = element;
       body.gauss_points = gauss;
       const fem::SolidModel model(body);
@@ -70,7 +58,7 @@ TEST(SolidMassOperator, rigid_translation_carries_the_mass_of_a_box)
 {
   // A free steel box 0.3 x 0.2 x 0.1 m (affine cells: the Gauss rule integrates N_a N_b
   // exactly): 1_x^T M 1_x = rho V = 7850 * 0.006 = 47.1 kg (closed form), to 1e-13.
-  fem::Solid body = steel(fem::generate_box(dealii::Point<3>(0.3, 0.2, 0.1), {{3, 2, 2}}), "XMIN");
+  fem::Solid body = test_support::steel_solid(fem::generate_box(dealii::Point<3>(0.3, 0.2, 0.1), {{3, 2, 2}}), "XMIN");
   const fem::SolidModel model(body, 0, false); // supports listed, matrices of the free body
   std::vector<unsigned int> component(model.n_dofs());
   dealii::Vector<double> one_x(model.n_dofs()), y(model.n_dofs());
@@ -95,7 +83,7 @@ TEST(SolidModes, releasing_the_matrices_gives_the_modes_of_the_assembled_ones)
   // applies M cell by cell. Same factor, same Lanczos start: the frequencies agree to the
   // Lanczos tolerance (1e-12 relative, settings.tolerance), bound 1e-10. Afterwards the model
   // holds no matrices, and its mode shapes are mass-normalised with the cell-by-cell M (1e-10).
-  const fem::Solid body = steel(fem::generate_cylinder(0.025, 2.0, 40), "XMIN");
+  const fem::Solid body = test_support::steel_solid(fem::generate_cylinder(0.025, 2.0, 40), "XMIN");
   reduction::ModalSettings settings;
   settings.n_modes = 6;
   const fem::SolidModel assembled(body);

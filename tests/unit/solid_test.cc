@@ -1,5 +1,6 @@
 // 3D bodies with 20-node hexahedra against CalculiX (same mesh) and beam theory.
 #include "solid_mesh_writer.h"
+#include "steel_solid.h"
 
 #include <fem/solid_model.h>
 #include <base/input_error.h>
@@ -53,27 +54,13 @@ std::string work_directory(const std::string &name)
   return dir;
 }
 
-fem::Solid steel_body(std::shared_ptr<const fem::SolidMesh> mesh, const std::string &fixed_set = "FIX")
-{
-  fem::Solid s;
-  s.mesh = std::move(mesh);
-  s.material.youngs_modulus = 2.1e11;
-  s.material.poisson_ratio = 0.3;
-  s.material.shear_modulus = 2.1e11 / 2.6;
-  s.material.density = 7850;
-  fem::SolidSupport clamp;
-  clamp.node_set = fixed_set;
-  s.supports = {clamp};
-  return s;
-}
-
 /// Frequencies of FlexTrack and CalculiX on the same .inp file; prints both.
 void compare_with_calculix(const std::string &dir, const std::string &job, unsigned int n_modes)
 {
   const auto ccx = test_support::run_calculix(dir, job);
   ASSERT_EQ(ccx.size(), n_modes) << "CalculiX (ccx, Debian package calculix-ccx) did not run; see " << dir << "/"
                                  << job << ".ccx.log";
-  const fem::Solid body = steel_body(fem::read_abaqus_mesh(dir + "/" + job + ".inp", "test"));
+  const fem::Solid body = test_support::steel_solid(fem::read_abaqus_mesh(dir + "/" + job + ".inp", "test"));
   const fem::SolidModel model(body);
   reduction::ModalSettings settings;
   settings.n_modes = n_modes;
@@ -126,7 +113,7 @@ TEST(Solid, patch_test_reproduces_a_linear_field_on_a_distorted_mesh)
     return Point<3>(x + 0.08 * bump + 0.05 * y * y, y - 0.06 * bump + 0.04 * z * x, z + 0.07 * bump);
   });
   const auto mesh = std::shared_ptr<const fem::SolidMesh>(fem::read_abaqus_mesh(dir + "/patch.inp", "test"));
-  fem::Solid body = steel_body(mesh);
+  fem::Solid body = test_support::steel_solid(mesh);
   body.supports.clear();
   const fem::SolidModel model(body);
   const auto x = model.support_points();
@@ -174,7 +161,7 @@ TEST(Solid, slender_block_tip_deflection_and_first_frequency_match_beam_theory)
   const double L = 2, b = 0.1, E = 2.1e11, nu = 0.3, G = E / (2 * (1 + nu)), rho = 7850, P = 1000;
   const double A = b * b, I = b * b * b * b / 12, k = 10 * (1 + nu) / (12 + 11 * nu);
   auto mesh = std::shared_ptr<const fem::SolidMesh>(fem::generate_box(Point<3>(L, b, b), {40, 2, 2}));
-  const fem::Solid body = steel_body(mesh, "XMIN");
+  const fem::Solid body = test_support::steel_solid(mesh, "XMIN");
   const fem::SolidModel model(body);
 
   // Consistent nodal forces of the traction -P/A e_z on the end face x = L.
@@ -242,7 +229,7 @@ TEST(Solid, gmsh_meshes_give_the_frequencies_of_the_same_mesh_in_calculix)
   std::vector<std::vector<double>> f;
   for (const std::string name : {"quarter_ring_hex20.msh", "quarter_ring_hex20_v2.msh", "quarter_ring_hex20.inp"})
     {
-      const fem::Solid body = steel_body(fem::read_mesh_file(FLEXTRACK_SOURCE_DIR "/meshes/" + name, "test"));
+      const fem::Solid body = test_support::steel_solid(fem::read_mesh_file(FLEXTRACK_SOURCE_DIR "/meshes/" + name, "test"));
       const fem::SolidModel model(body);
       reduction::ModalSettings settings;
       f.push_back(reduction::lowest_modes(model, settings).frequencies_hz());
@@ -264,7 +251,7 @@ TEST(Solid, generated_cylinder_cantilever_matches_beam_theory)
   // Euler-Bernoulli, (b_n L)^2 sqrt(EI / (rho A L^4)) / (2 pi) (Blevins, Table 8-1); shear,
   // rotary inertia and the 3D clamp shift them by a few 0.1 %: tolerance 1 % (issue 3).
   const double R = 0.025, L = 2, E = 2.1e11, rho = 7850, I = M_PI * std::pow(R, 4) / 4, A = M_PI * R * R;
-  const fem::Solid body = steel_body(fem::generate_cylinder(R, L, 40), "XMIN");
+  const fem::Solid body = test_support::steel_solid(fem::generate_cylinder(R, L, 40), "XMIN");
   const fem::SolidModel model(body);
   reduction::ModalSettings settings;
   settings.n_modes = 4;
