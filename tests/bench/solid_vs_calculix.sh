@@ -19,8 +19,11 @@ timed() { # tag command... -> tag.time
 }
 
 printf '%9s %10s %10s %10s %10s %9s %9s %12s\n' dofs "ccx[s]" "ccx[MiB]" "ft[s]" "ft[MiB]" "t ratio" "m ratio" "max rel.diff"
-for size in "50 5 5" "80 8 8" "120 12 12"; do
-  tag=block_${size// /x}
+# BENCH_SIZES: other meshes, ';'-separated make_block_inp.py arguments "nx ny nz [L B H]", e.g.
+# BENCH_SIZES="32 32 8 1 1 0.25" for the plate of issue 12 (1.1e5 dofs).
+IFS=';' read -r -a sizes <<< "${BENCH_SIZES:-50 5 5;80 8 8;120 12 12}"
+for size in "${sizes[@]}"; do
+  tag=block_${size// /x}; tag=${tag//./p} # ccx reads JOB.inp: no dots in JOB
   "$py" "$here/make_block_inp.py" $size > "$tag.inp"
   cat > "$tag.prm" <<PRM
 set Model = solid
