@@ -156,6 +156,8 @@ std::optional<Participation> participation(const Model &model, const reduction::
   const reduction::MassProduct M =
     model.arm ? reduction::product_with(model.arm->mass_matrix())
               : reduction::MassProduct([&solid = *model.solid](const Vector<double> &x, Vector<double> &y) {
+                  Assert(x.size() == solid.n_dofs() && y.size() == solid.n_dofs(),
+                         ExcDimensionMismatch(x.size(), solid.n_dofs()));
                   solid.mass_operator().vmult(x.begin(), y.begin());
                 });
   const Point<3> x_ref(settings.participation_reference[0], settings.participation_reference[1],

@@ -14,10 +14,13 @@ SolidMassOperator::SolidMassOperator(const DoFHandler<3> &dofs, const Mapping<3>
   : n_dofs(dofs.n_dofs()), held(std::move(held_dofs))
 {
   const FiniteElement<3> &fe = dofs.get_fe();
-  if (fe.n_components() != 3 || fe.n_dofs_per_cell() % 3 != 0)
-    throw std::logic_error("SolidMassOperator: the element must have three components with one scalar function each");
+  // Three copies of one scalar element (FESystem(FE_Q or FE_Serendipity, 3)): only then is the
+  // cell's mass block one scalar matrix per component.
+  if (fe.n_components() != 3 || fe.n_base_elements() != 1 || fe.element_multiplicity(0) != 3 || !fe.is_primitive())
+    throw std::logic_error("SolidMassOperator: the element must be three copies of one scalar element");
   n_scalar = fe.n_dofs_per_cell() / 3;
   if (held.empty()) held.assign(n_dofs, false);
+  if (held.size() != n_dofs) throw std::logic_error("SolidMassOperator: one 'held' flag per dof expected");
   // local[a * 3 + c]: the cell dof of scalar function a in component c.
   std::vector<unsigned int> local(fe.n_dofs_per_cell());
   for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)

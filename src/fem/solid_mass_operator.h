@@ -32,7 +32,7 @@ public:
   SolidMassOperator(const dealii::DoFHandler<3> &dofs, const dealii::Mapping<3> &mapping,
                     const dealii::Quadrature<3> &rule, double rho, std::vector<bool> held);
 
-  /// y = M x, both of n() entries; y is overwritten.
+  /// y = M x, both of n() entries, y overwritten; x and y must not overlap.
   void vmult(const double *x, double *y) const;
   std::size_t n() const { return n_dofs; }
   /// Bytes held (cell matrices and dof indices).

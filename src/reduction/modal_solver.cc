@@ -287,9 +287,9 @@ Modes lowest_modes_releasing_matrices(fem::SolidModel &model, const ModalSetting
   const double shift = std::isnan(settings.shift) ? automatic_shift(K, M) : settings.shift;
   const bool serial = Utilities::MPI::n_mpi_processes(K.get_mpi_communicator()) == 1;
   const bool cholesky = settings.direct_solver == "auto" || settings.direct_solver == "cholmod";
-  // A positive shift may make K - sigma M indefinite: that needs the fallback to MUMPS, which
-  // needs K and M; under MPI, MUMPS factorises the distributed matrices.
-  if (!serial || !cholesky || shift > 0) return lowest_modes(model, settings);
+  // A shift of 0 or more may make K - sigma M singular or indefinite: that needs the fallback
+  // to MUMPS, which needs K and M; under MPI, MUMPS factorises the distributed matrices.
+  if (!serial || !cholesky || !(shift < 0)) return lowest_modes(model, settings);
   check_number_of_modes(settings, model.n_free_dofs());
   const SparseFactorization factorization(K, M, shift, [&] { model.release_matrices(); });
   // Made after the factor, so that its memory (a twentieth of the factor's) does not add to

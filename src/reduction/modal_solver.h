@@ -85,10 +85,10 @@ Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
 /// Lowest modes of a solid body's FE model.
 Modes lowest_modes(const fem::SolidModel &model, const ModalSettings &settings);
 
-/// The same in the least memory (one process, the Cholesky factor, a shift of at most 0: the
+/// The same in the least memory (one process, the Cholesky factor, a negative shift: the
 /// default): K and M are released once the factorisation has its copy of K - sigma M, so that
 /// they are not held beside the factor, and the Lanczos iteration applies M cell by cell
 /// (model.mass_operator()). The model's matrices are empty afterwards. Otherwise (MPI, another
-/// solver, a positive shift) as lowest_modes(model, settings), keeping them.
+/// solver, a shift of 0 or more) as lowest_modes(model, settings), keeping them.
 Modes lowest_modes_releasing_matrices(fem::SolidModel &model, const ModalSettings &settings);
 } // namespace flextrack::reduction

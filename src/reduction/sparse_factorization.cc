@@ -64,10 +64,16 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
                                          const dealii::TrilinosWrappers::SparseMatrix &M, const double sigma,
                                          const std::function<void()> &release)
 {
-  if (!factorize_with_cholmod(K, M, sigma, nullptr, release))
-    throw SolverError("K - sigma M is not positive definite (sigma = " + std::to_string(sigma) +
-                      " rad^2/s^2): the shift is at or above the lowest eigenvalue, or the structure is singular "
-                      "and the shift is 0; set 'Modal analysis/Shift' to 'auto' or a negative value");
+  const auto n = K.m(); // K is empty after release()
+  if (factorize_with_cholmod(K, M, sigma, nullptr, release)) return;
+  if (out_of_memory)
+    throw SolverError("out of memory in the Cholesky factorisation of K - sigma M (" + std::to_string(n) +
+                      " dofs); use a coarser mesh or a computer with more memory");
+  // With sigma < 0, K - sigma M = K + |sigma| M is positive definite unless the elements have
+  // zero-energy modes that carry no mass either, or the shift is far below the spectrum.
+  throw SolverError("K - sigma M is not positive definite (sigma = " + std::to_string(sigma) +
+                    " rad^2/s^2): the elements may have zero-energy modes (e.g. 'Solid/Integration = reduced'); "
+                    "use full integration, or set 'Modal analysis/Shift' nearer the lowest frequency squared");
 }
 
 namespace
@@ -212,6 +218,7 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
   if (cholmod->factor) cholmod_factorize(A, cholmod->factor, &common);
   base::probe_memory("Cholesky factor of A made");
   const bool positive_definite = cholmod->factor && common.status == CHOLMOD_OK;
+  out_of_memory = common.status == CHOLMOD_OUT_OF_MEMORY;
   cholmod_free_sparse(&A, &common);
   base::release_free_heap(); // A's pages, before the solves
   base::probe_memory("A freed");

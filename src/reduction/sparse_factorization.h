@@ -33,8 +33,8 @@ public:
   SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K, const std::vector<bool> &fixed);
   /// The Cholesky factor of A = K - sigma M in the least memory: @p release is called as soon as
   /// CHOLMOD's copy of A is built, before the factorisation, so that the caller frees K and M
-  /// there (they are not touched afterwards). SolverError if A is not positive definite: there
-  /// is no fallback to another method, since K and M may be gone.
+  /// there (they are not touched afterwards). SolverError (out of memory, or A not positive
+  /// definite) if that fails: there is no fallback to another method, since K and M may be gone.
   SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
                       const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,
                       const std::function<void()> &release);
@@ -54,6 +54,7 @@ private:
   std::unique_ptr<Amesos_BaseSolver> solver;
   struct Cholmod;
   std::unique_ptr<Cholmod> cholmod;
+  bool out_of_memory = false; ///< why the last Cholesky factorisation failed, if it did
   /// Cholesky of A; false if A is not positive definite.
   bool factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
                               const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,
