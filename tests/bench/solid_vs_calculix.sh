@@ -4,26 +4,21 @@
 # Prints the median wall time of 3 runs (/usr/bin/time -v) and the peak resident memory of
 # each code, their ratios, and the largest relative frequency difference.
 # Target (issue 3): FlexTrack at or below CalculiX's wall time and memory on every size.
+# BENCH_SIZES selects other meshes (bench_common.sh), BENCH_REPEAT the number of runs.
 set -euo pipefail
 exe=$(realpath "${1:?usage: solid_vs_calculix.sh FLEXTRACK_EXE WORKDIR}")
 work=${2:-bench_solid}
 repeat=${BENCH_REPEAT:-3}
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+# shellcheck source=bench_common.sh
+source "$here/bench_common.sh" # timed, job_name, sizes (BENCH_SIZES)
 mkdir -p "$work" && cd "$work"
 py=/usr/bin/python3
 command -v ccx > /dev/null || { echo "ccx (Debian package calculix-ccx) is not installed"; exit 1; }
 
-timed() { # tag command... -> tag.time
-  local tag=$1; shift
-  /usr/bin/time -v "$@" > "$tag.log" 2> "$tag.time" || { echo "$tag failed:"; tail "$tag.log" "$tag.time"; exit 1; }
-}
-
 printf '%9s %10s %10s %10s %10s %9s %9s %12s\n' dofs "ccx[s]" "ccx[MiB]" "ft[s]" "ft[MiB]" "t ratio" "m ratio" "max rel.diff"
-# BENCH_SIZES: other meshes, ';'-separated make_block_inp.py arguments "nx ny nz [L B H]", e.g.
-# BENCH_SIZES="32 32 8 1 1 0.25" for the plate of issue 12 (1.1e5 dofs).
-IFS=';' read -r -a sizes <<< "${BENCH_SIZES:-50 5 5;80 8 8;120 12 12}"
 for size in "${sizes[@]}"; do
-  tag=block_${size// /x}; tag=${tag//./p} # ccx reads JOB.inp: no dots in JOB
+  tag=$(job_name block "$size")
   "$py" "$here/make_block_inp.py" $size > "$tag.inp"
   cat > "$tag.prm" <<PRM
 set Model = solid
@@ -43,20 +38,13 @@ PRM
     timed "${tag}_ccx_$r" ccx "$tag"
     timed "${tag}_ft_$r" "$exe" modes "$tag.prm" -o "out_$tag"
   done
-  "$py" - "$tag" "$repeat" <<'PY'
-import json, re, statistics, sys
+  "$py" - "$tag" "$repeat" "$here" <<'PY'
+import json, sys
 tag, repeat = sys.argv[1], int(sys.argv[2])
-def measure(kind):
-    walls, mems = [], []
-    for r in range(1, repeat + 1):
-        t = open(f"{tag}_{kind}_{r}.time").read()
-        m = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): (?:(\d+):)?(\d+):([\d.]+)", t)
-        h = int(m.group(1) or 0)
-        walls.append(h * 3600 + int(m.group(2)) * 60 + float(m.group(3)))
-        mems.append(int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", t).group(1)) / 1024)
-    return statistics.median(walls), statistics.median(mems)
-cw, cm = measure("ccx")
-fw, fm = measure("ft")
+sys.path.insert(0, sys.argv[3])
+from gnu_time import measure
+cw, cm, _ = measure(tag, "ccx", repeat)
+fw, fm, _ = measure(tag, "ft", repeat)
 ccx, table = [], False
 for line in open(f"{tag}.dat"):
     if "E I G E N V A L U E   O U T P U T" in line: table = True; continue

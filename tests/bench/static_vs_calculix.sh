@@ -9,27 +9,23 @@
 # difference |u_ft - u_ccx| / |u_ccx| of the tip face's mean displacement (mean over its nodes).
 # Target (issue 12): FlexTrack at or below CalculiX's wall time and memory (ratios <= 1.0).
 # Fails only if the tip displacements differ by more than 1e-6 (a wrong load or mesh).
-# BENCH_SIZES="nx ny nz;nx ny nz" overrides the block sizes (e.g. BENCH_SIZES="50 5 5").
+# BENCH_SIZES selects other meshes, e.g. BENCH_SIZES="50 5 5" (bench_common.sh).
 set -euo pipefail
 exe=$(realpath "${1:?usage: static_vs_calculix.sh FLEXTRACK_EXE WORKDIR}")
 work=${2:-bench_static}
 repeat=${BENCH_REPEAT:-3}
 force="100 1000 -500" # total tip force Fx Fy Fz [N]
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+# shellcheck source=bench_common.sh
+source "$here/bench_common.sh" # timed, job_name, sizes (BENCH_SIZES)
 mkdir -p "$work" && cd "$work"
 py=/usr/bin/python3
 command -v ccx > /dev/null || { echo "ccx (Debian package calculix-ccx) is not installed"; exit 1; }
-IFS=';' read -r -a sizes <<< "${BENCH_SIZES:-50 5 5;80 8 8;120 12 12}"
-
-timed() { # tag command... -> tag.time
-  local tag=$1; shift
-  /usr/bin/time -v "$@" > "$tag.log" 2> "$tag.time" || { echo "$tag failed:"; tail "$tag.log" "$tag.time"; exit 1; }
-}
 
 echo "tip force $force N on the face x = L of a 1 x 0.1 x 0.1 m steel block; median of $repeat runs"
 printf '%9s %10s %10s %10s %10s %9s %9s %12s\n' dofs "ccx[s]" "ccx[MiB]" "ft[s]" "ft[MiB]" "t ratio" "m ratio" "tip rel.diff"
 for size in "${sizes[@]}"; do
-  tag=static_${size// /x}
+  tag=$(job_name static "$size")
   # shellcheck disable=SC2086
   "$py" "$here/make_block_inp.py" $size --static $force > "$tag.inp"
   cat > "$tag.prm" <<PRM
@@ -52,21 +48,13 @@ PRM
     cp "$tag.dat" "${tag}_ccx_$r.dat"
     timed "${tag}_ft_$r" "$exe" static "$tag.prm" -o "out_${tag}_$r"
   done
-  "$py" - "$tag" "$repeat" <<'PY'
-import csv, json, math, re, statistics, sys
+  "$py" - "$tag" "$repeat" "$here" <<'PY'
+import csv, json, math, sys
 tag, repeat = sys.argv[1], int(sys.argv[2])
-def measure(kind):
-    walls, mems = [], []
-    for r in range(1, repeat + 1):
-        t = open(f"{tag}_{kind}_{r}.time").read()
-        m = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): (?:(\d+):)?(\d+):([\d.]+)", t)
-        h = int(m.group(1) or 0)
-        walls.append(h * 3600 + int(m.group(2)) * 60 + float(m.group(3)))
-        mems.append(int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", t).group(1)) / 1024)
-    median_run = sorted(range(repeat), key=lambda i: walls[i])[(repeat - 1) // 2] + 1
-    return statistics.median(walls), statistics.median(mems), median_run
-cw, cm, _ = measure("ccx")
-fw, fm, fr = measure("ft")
+sys.path.insert(0, sys.argv[3])
+from gnu_time import measure
+cw, cm, _ = measure(tag, "ccx", repeat)
+fw, fm, fr = measure(tag, "ft", repeat)
 # CalculiX: the mean of the TIP nodes' displacements from *NODE PRINT (the .dat file).
 rows, table = [], False
 for line in open(f"{tag}_ccx_1.dat"):
