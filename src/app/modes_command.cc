@@ -153,8 +153,11 @@ std::optional<Participation> participation(const Model &model, const reduction::
 {
   if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1) return std::nullopt;
   const reduction::DofLayout layout = model.arm ? reduction::dof_layout(*model.arm) : reduction::dof_layout(*model.solid);
+  // The assembled M where the model still has it (arms; solids whose eigen solve kept K and M),
+  // else the solid's cell-by-cell product.
+  const auto &assembled = model.arm ? model.arm->mass_matrix() : model.solid->mass_matrix();
   const reduction::MassProduct M =
-    model.arm ? reduction::product_with(model.arm->mass_matrix())
+    assembled.m() > 0 ? reduction::product_with(assembled)
               : reduction::MassProduct([&solid = *model.solid](const Vector<double> &x, Vector<double> &y) {
                   Assert(x.size() == solid.n_dofs() && y.size() == solid.n_dofs(),
                          ExcDimensionMismatch(x.size(), solid.n_dofs()));
