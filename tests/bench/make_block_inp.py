@@ -1,11 +1,12 @@
 #!/usr/bin/python3
 """Writes a C3D20 cantilever block L x B x H [m] with nx x ny x nz elements as a complete CalculiX
-input (steel, node set FIX = the face x = 0 clamped, *FREQUENCY step for 10 modes) to stdout.
+input (steel, node set FIX = the face x = 0 clamped, *FREQUENCY step for 10 modes, or N with
+--modes N) to stdout.
 With --static FX FY FZ: also node set TIP (the face x = L) and, instead of the *FREQUENCY step, a
 *STATIC step with the total force (FX, FY, FZ) [N] on the tip face as a uniform traction, given
 as its consistent nodal loads (*CLOAD; per hex20 face -1/12 of the face's force at each corner,
 1/3 at each mid-side node, summed over the faces) and *NODE PRINT of U on TIP (to the .dat file).
-Usage: make_block_inp.py nx ny nz [L B H] [--static FX FY FZ]"""
+Usage: make_block_inp.py nx ny nz [L B H] [--static FX FY FZ] [--modes N]"""
 import sys
 from fractions import Fraction
 
@@ -17,6 +18,11 @@ if "--static" in args:
     if len(tip_force) != 3:
         sys.exit("--static needs three force components FX FY FZ")
     del args[i:i + 4]
+modes = 10
+if "--modes" in args:
+    i = args.index("--modes")
+    modes = int(args[i + 1])
+    del args[i:i + 2]
 nx, ny, nz = (int(v) for v in args[0:3])
 L, B, H = (float(v) for v in args[3:6]) if len(args) > 5 else (1.0, 0.1, 0.1)
 NX, NY, NZ = 2 * nx + 1, 2 * ny + 1, 2 * nz + 1
@@ -67,7 +73,7 @@ if tip_force is not None:
                     share[n] = share.get(n, 0) + w / (ny * nz)
 out("*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n")
 if tip_force is None:
-    out("*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*BOUNDARY\nFIX, 1, 3\n*STEP\n*FREQUENCY\n10\n*END STEP\n")
+    out(f"*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*BOUNDARY\nFIX, 1, 3\n*STEP\n*FREQUENCY\n{modes}\n*END STEP\n")
 else:
     out("*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*BOUNDARY\nFIX, 1, 3\n*STEP\n*STATIC\n*CLOAD\n")
     for n in sorted(share):

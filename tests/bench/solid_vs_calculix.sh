@@ -4,11 +4,13 @@
 # Prints the median wall time of 3 runs (/usr/bin/time -v) and the peak resident memory of
 # each code, their ratios, and the largest relative frequency difference.
 # Target (issue 3): FlexTrack at or below CalculiX's wall time and memory on every size.
-# BENCH_SIZES selects other meshes (bench_common.sh), BENCH_REPEAT the number of runs.
+# BENCH_SIZES selects other meshes (bench_common.sh), BENCH_MODES the number of modes (10),
+# BENCH_REPEAT the number of runs.
 set -euo pipefail
 exe=$(realpath "${1:?usage: solid_vs_calculix.sh FLEXTRACK_EXE WORKDIR}")
 work=${2:-bench_solid}
 repeat=${BENCH_REPEAT:-3}
+modes=${BENCH_MODES:-10}
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 # shellcheck source=bench_common.sh
 source "$here/bench_common.sh" # timed, job_name, sizes (BENCH_SIZES)
@@ -19,7 +21,7 @@ command -v ccx > /dev/null || { echo "ccx (Debian package calculix-ccx) is not i
 printf '%9s %10s %10s %10s %10s %9s %9s %12s\n' dofs "ccx[s]" "ccx[MiB]" "ft[s]" "ft[MiB]" "t ratio" "m ratio" "max rel.diff"
 for size in "${sizes[@]}"; do
   tag=$(job_name block "$size")
-  "$py" "$here/make_block_inp.py" $size > "$tag.inp"
+  "$py" "$here/make_block_inp.py" $size --modes "$modes" > "$tag.inp"
   cat > "$tag.prm" <<PRM
 set Model = solid
 subsection Solid
@@ -28,7 +30,7 @@ subsection Solid
   set Supports = FIX: x, y, z
 end
 subsection Modal analysis
-  set Number of modes = 10
+  set Number of modes = $modes
 end
 subsection Output
   set Mode shapes = false
