@@ -40,12 +40,22 @@ struct SparseFactorization::Cholmod
   }
 };
 
+namespace
+{
+SolverError out_of_memory_error(const std::size_t n_dofs)
+{
+  return SolverError("out of memory in the Cholesky factorisation (" + std::to_string(n_dofs) +
+                     " dofs); use a coarser mesh or a computer with more memory");
+}
+} // namespace
+
 SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
                                          const dealii::TrilinosWrappers::SparseMatrix &M, const double sigma,
                                          const std::string &method)
 {
   if (method == "cholmod" && factorize_with_cholmod(K, M, sigma))
     return;
+  if (out_of_memory) throw out_of_memory_error(K.m()); // MUMPS would need more
   // Not positive definite (a positive shift), or another method asked for: LDL^T or LU.
   matrix.copy_from(K);
   matrix.add(-sigma, M);
@@ -55,11 +65,12 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
 SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
                                          const std::vector<bool> &fixed)
 {
-  if (!factorize_with_cholmod(K, K, 0.0, &fixed))
-    throw SolverError("the stiffness matrix with these supports is singular: either the supports do not hold the "
-                      "structure against every rigid motion (a mechanism; add supports), or the elements have "
-                      "zero-energy modes of their own (e.g. 'Solid/Integration = reduced' on a mesh with one cell "
-                      "across; use 'full')");
+  if (factorize_with_cholmod(K, K, 0.0, &fixed)) return;
+  if (out_of_memory) throw out_of_memory_error(K.m());
+  throw SolverError("the stiffness matrix with these supports is singular: either the supports do not hold the "
+                    "structure against every rigid motion (a mechanism; add supports), or the elements have "
+                    "zero-energy modes of their own (e.g. 'Solid/Integration = reduced' on a mesh with one cell "
+                    "across; use 'full')");
 }
 
 SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
@@ -68,9 +79,7 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
 {
   const auto n = K.m(); // K is empty after release()
   if (factorize_with_cholmod(K, M, sigma, nullptr, release)) return;
-  if (out_of_memory)
-    throw SolverError("out of memory in the Cholesky factorisation of K - sigma M (" + std::to_string(n) +
-                      " dofs); use a coarser mesh or a computer with more memory");
+  if (out_of_memory) throw out_of_memory_error(n);
   // With sigma < 0, K - sigma M = K + |sigma| M is positive definite unless the elements have
   // zero-energy modes that carry no mass either, or the shift is far below the spectrum.
   throw SolverError("K - sigma M is not positive definite (sigma = " + std::to_string(sigma) +

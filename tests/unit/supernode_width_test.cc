@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <new>
 #include <vector>
 
 using namespace flextrack;
@@ -46,6 +49,43 @@ cholmod_sparse *factor_columns(const cholmod_factor *L, cholmod_common &common)
   cholmod_free_factor(&copy, &common);
   return columns;
 }
+/// The widest supernode of @p L.
+std::size_t widest_supernode(const cholmod_factor *L)
+{
+  const auto *super = static_cast<const int *>(L->super);
+  std::size_t w = 0;
+  for (std::size_t k = 0; k < L->nsuper; ++k) w = std::max<std::size_t>(w, super[k + 1] - super[k]);
+  return w;
+}
+
+/// CHOLMOD's update workspace by its definition, pair by pair: for every supernode d and every
+/// supernode s that one of d's rows below its diagonal block falls into, (rows of d in s's
+/// columns) x (rows of d from s's first column on).
+std::size_t largest_update_pair_by_pair(const cholmod_factor *L)
+{
+  const auto *super = static_cast<const int *>(L->super), *pi = static_cast<const int *>(L->pi);
+  const auto *rows = static_cast<const int *>(L->s);
+  std::size_t largest = 1;
+  for (std::size_t d = 0; d < L->nsuper; ++d)
+    {
+      const int below = pi[d] + super[d + 1] - super[d];
+      for (std::size_t s = d + 1; s < L->nsuper; ++s)
+        {
+          std::size_t in_s = 0, from_s = 0;
+          for (int p = below; p < pi[d + 1]; ++p)
+            {
+              in_s += rows[p] >= super[s] && rows[p] < super[s + 1];
+              from_s += rows[p] >= super[s];
+            }
+          largest = std::max(largest, in_s * from_s);
+        }
+    }
+  return largest;
+}
+
+/// A malloc that fails after a given number of successful calls (out of memory on purpose).
+int mallocs_left = 0;
+void *failing_malloc(const std::size_t size) { return mallocs_left-- > 0 ? std::malloc(size) : nullptr; }
 } // namespace
 
 TEST(SupernodeWidth, split_factor_equals_cholmods_factor_in_fewer_numbers)
@@ -55,15 +95,36 @@ TEST(SupernodeWidth, split_factor_equals_cholmods_factor_in_fewer_numbers)
   common.print = 0;
   cholmod_sparse *A = grid_laplacian(22, common); // 10 648 unknowns
   cholmod_factor *reference = cholmod_analyze(A, &common);
-  cholmod_factor *split = cholmod_copy_factor(reference, &common);
   ASSERT_TRUE(reference && reference->is_super) << "the test needs a supernodal factor";
-  const std::size_t widest = [&] {
-    const auto *super = static_cast<const int *>(reference->super);
-    std::size_t w = 0;
-    for (std::size_t k = 0; k < reference->nsuper; ++k) w = std::max<std::size_t>(w, super[k + 1] - super[k]);
-    return w;
-  }();
-  ASSERT_GT(widest, 100u) << "the separators should give wide supernodes";
+  cholmod_factor *split = cholmod_copy_factor(reference, &common);
+  ASSERT_GT(widest_supernode(reference), 100u) << "the separators should give wide supernodes";
+
+  // The workspace sizes as this code computes them, against CHOLMOD's own (exact).
+  const reduction::SupernodeWorkspace own = reduction::supernode_workspace(*reference);
+  EXPECT_EQ(own.max_update, reference->maxcsize);
+  EXPECT_EQ(own.max_rows_below, reference->maxesize);
+
+  // Nothing to split: no change.
+  for (const std::size_t no_cap : {std::size_t(0), widest_supernode(reference), std::size_t(-1)})
+    {
+      const reduction::SupernodeSplit same = reduction::cap_supernode_width(*split, no_cap, common);
+      EXPECT_EQ(same.supernodes_after, reference->nsuper) << "cap " << no_cap;
+      EXPECT_EQ(split->xsize, reference->xsize) << "cap " << no_cap;
+    }
+
+  // Out of memory at the first and at the last of the four new arrays: an exception, the factor
+  // as it was, and what was allocated freed (CHOLMOD's memory count, checked at the end).
+  for (const int succeeding : {0, 3})
+    {
+      const auto system_malloc = SuiteSparse_config.malloc_func;
+      SuiteSparse_config.malloc_func = failing_malloc;
+      mallocs_left = succeeding;
+      EXPECT_THROW(reduction::cap_supernode_width(*split, 32, common), std::bad_alloc);
+      SuiteSparse_config.malloc_func = system_malloc;
+      EXPECT_EQ(split->nsuper, reference->nsuper);
+      EXPECT_EQ(split->xsize, reference->xsize);
+      common.status = CHOLMOD_OK;
+    }
 
   const std::size_t cap = 32;
   const reduction::SupernodeSplit s = reduction::cap_supernode_width(*split, cap, common);
@@ -74,6 +135,9 @@ TEST(SupernodeWidth, split_factor_equals_cholmods_factor_in_fewer_numbers)
   const auto *super = static_cast<const int *>(split->super);
   for (std::size_t k = 0; k < split->nsuper; ++k) EXPECT_LE(super[k + 1] - super[k], static_cast<int>(cap));
   EXPECT_TRUE(cholmod_check_factor(split, &common)) << "CHOLMOD's own consistency check of the split factor";
+  EXPECT_EQ(split->maxcsize, largest_update_pair_by_pair(split));
+  EXPECT_LT(split->maxcsize, reference->maxcsize);
+  EXPECT_EQ(split->maxesize, reduction::supernode_workspace(*split).max_rows_below);
 
   cholmod_factorize(A, reference, &common);
   ASSERT_EQ(common.status, CHOLMOD_OK);
@@ -119,19 +183,28 @@ TEST(SupernodeWidth, split_factor_equals_cholmods_factor_in_fewer_numbers)
             << " -> " << s.numbers_after << " stored numbers (" << entries << " entries of L), max |dL| " << difference
             << '\n';
 
-  // A solve with the split factor: the residual of A x = b (b = A 1 gives x = 1).
-  cholmod_dense *ones = cholmod_ones(A->nrow, 1, CHOLMOD_REAL, &common);
-  cholmod_dense *b = cholmod_zeros(A->nrow, 1, CHOLMOD_REAL, &common);
+  // Solves with the split factor, three right-hand sides at once (CHOLMOD's solve workspace is
+  // sized by maxesize and their number): b = A X with the columns of X = 1, 2, 3, so the error
+  // of X is the residual, bounded by cond(A) < 13 (eigenvalues of 7 I + grid Laplacian within
+  // [1, 13]) times round-off.
+  const std::size_t n = A->nrow;
+  cholmod_dense *X = cholmod_zeros(n, 3, CHOLMOD_REAL, &common);
+  for (std::size_t c = 0; c < 3; ++c)
+    std::fill_n(static_cast<double *>(X->x) + c * n, n, 1.0 + c);
+  cholmod_dense *b = cholmod_zeros(n, 3, CHOLMOD_REAL, &common);
   double alpha[2] = {1, 0}, beta[2] = {0, 0};
-  cholmod_sdmult(A, false, alpha, beta, ones, b, &common);
+  cholmod_sdmult(A, false, alpha, beta, X, b, &common);
   cholmod_dense *x = cholmod_solve(CHOLMOD_A, split, b, &common);
   double error = 0;
-  for (std::size_t i = 0; i < A->nrow; ++i) error = std::max(error, std::abs(static_cast<double *>(x->x)[i] - 1.0));
-  EXPECT_LT(error, 1e-12); // cond(A) < 2 (eigenvalues of 7 I + grid Laplacian within [1, 13])
+  for (std::size_t e = 0; e < 3 * n; ++e)
+    error = std::max(error, std::abs(static_cast<double *>(x->x)[e] - static_cast<double *>(X->x)[e]));
+  EXPECT_LT(error, 1e-12);
 
-  for (cholmod_dense *d : {ones, b, x}) cholmod_free_dense(&d, &common);
+  for (cholmod_dense *d : {X, b, x}) cholmod_free_dense(&d, &common);
   for (cholmod_sparse *m : {A, l_ref, l_split}) cholmod_free_sparse(&m, &common);
   cholmod_free_factor(&reference, &common);
   cholmod_free_factor(&split, &common);
+  cholmod_free_work(&common); // CHOLMOD's own workspace, kept in common
+  EXPECT_EQ(common.memory_inuse, 0u) << "every array freed with the size it was allocated with";
   cholmod_finish(&common);
 }
