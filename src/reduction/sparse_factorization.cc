@@ -296,6 +296,32 @@ void SparseFactorization::solve(const double *b, double *x) const
   std::copy(&(*lhs)[0], &(*lhs)[0] + n, x);
 }
 
+bool SparseFactorization::has_halves() const
+{
+  return cholmod && !cholmod->order.empty() && cholmod->factor->is_ll;
+}
+
+void SparseFactorization::solve_lower(const double *b, double *y) const
+{
+  // The factor is of P A P^T in CHOLMOD's natural order, so CHOLMOD applies no permutation.
+  const std::size_t n = cholmod->rhs->nrow;
+  auto *permuted = static_cast<double *>(cholmod->rhs->x);
+  for (std::size_t p = 0; p < n; ++p) permuted[p] = b[cholmod->order[p]];
+  cholmod_dense *solution = cholmod_solve(CHOLMOD_L, cholmod->factor, cholmod->rhs, &cholmod->common);
+  std::copy_n(static_cast<const double *>(solution->x), n, y);
+  cholmod_free_dense(&solution, &cholmod->common);
+}
+
+void SparseFactorization::solve_upper(const double *y, double *x) const
+{
+  const std::size_t n = cholmod->rhs->nrow;
+  std::copy_n(y, n, static_cast<double *>(cholmod->rhs->x));
+  cholmod_dense *solution = cholmod_solve(CHOLMOD_Lt, cholmod->factor, cholmod->rhs, &cholmod->common);
+  const auto *z = static_cast<const double *>(solution->x);
+  for (std::size_t p = 0; p < n; ++p) x[cholmod->order[p]] = z[p];
+  cholmod_free_dense(&solution, &cholmod->common);
+}
+
 void SparseFactorization::solve_many(const double *B, double *X, const unsigned int k) const
 {
   if (!cholmod)

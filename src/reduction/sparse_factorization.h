@@ -45,6 +45,16 @@ public:
   /// Cholesky path solves them together (level-3 BLAS), several times faster than one by one.
   void solve_many(const double *B, double *X, unsigned int k) const;
 
+  /// Whether A = P^T L L^T P is available in its halves (a supernodal Cholesky factor, which
+  /// large models get): then an eigen solve can work on the symmetric standard problem
+  /// L^{-1} P M P^T L^{-T} y = y / (lambda - sigma), which needs one product with M per step
+  /// instead of the about three of the generalised one (its M-inner products).
+  bool has_halves() const;
+  /// y = L^{-1} P b (has_halves() only).
+  void solve_lower(const double *b, double *y) const;
+  /// x = P^T L^{-T} y (has_halves() only).
+  void solve_upper(const double *y, double *x) const;
+
 private:
   // Members are destroyed in reverse order: the solver before the problem, vectors and matrix
   // it refers to.
