@@ -8,6 +8,7 @@
 #include <base/names.h>
 #include <io/body_export.h>
 #include <base/input_error.h>
+#include <base/mpi_session.h>
 #include <base/solver_error.h>
 
 #include <deal.II/base/exceptions.h>
@@ -81,21 +82,9 @@ int usage_error(const std::string &message)
   return 1;
 }
 
-/// A folder of this process's own for Open MPI's session files, removed at exit. Singleton
-/// processes otherwise share /tmp/ompi.HOST.UID, and one removing it at MPI_Finalize while
-/// another creates its files there made MPI_Init fail ("A call to mkdir was unable to create the
-/// desired directory", exit 1) when several flextrack processes started at once.
+/// This process's own folder for Open MPI's session files (base::prepare_singleton_mpi), removed
+/// at exit.
 std::string private_mpi_folder;
-
-void use_private_mpi_session_folder()
-{
-  if (std::getenv("OMPI_MCA_orte_tmpdir_base")) return; // the user chose one
-  const char *tmp = std::getenv("TMPDIR");
-  std::string folder = std::string(tmp && *tmp ? tmp : "/tmp") + "/flextrack-mpi-XXXXXX";
-  if (!mkdtemp(folder.data())) return; // then Open MPI's default
-  private_mpi_folder = folder;
-  setenv("OMPI_MCA_orte_tmpdir_base", folder.c_str(), 1);
-}
 
 /// MPI is started only by the commands that use Trilinos' distributed matrices (every other
 /// command starts faster without it, and cannot fail in OpenMPI's singleton start-up).
@@ -104,12 +93,7 @@ void start_mpi(int *argc, char ***argv)
   int started = 0;
   MPI_Initialized(&started);
   if (started) return;
-  if (!std::getenv("OMPI_COMM_WORLD_SIZE"))
-    {
-      // A singleton MPI process starts much faster when it does not look for a runtime daemon.
-      setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
-      use_private_mpi_session_folder();
-    }
+  private_mpi_folder = flextrack::base::prepare_singleton_mpi();
   MPI_Init(argc, argv);
   // Under mpirun every process computes; only the first one talks (errors excepted).
   int rank = 0;
@@ -290,10 +274,6 @@ int main(int argc, char **argv)
   MPI_Initialized(&started);
   MPI_Finalized(&finished);
   if (started && !finished) MPI_Finalize();
-  if (!private_mpi_folder.empty())
-    {
-      std::error_code ignore;
-      std::filesystem::remove_all(private_mpi_folder, ignore);
-    }
+  flextrack::base::remove_mpi_session_folder(private_mpi_folder);
   return status;
 }

@@ -303,7 +303,8 @@ bool SparseFactorization::has_halves() const
 
 void SparseFactorization::solve_lower(const double *b, double *y) const
 {
-  // The factor is of P A P^T in CHOLMOD's natural order, so CHOLMOD applies no permutation.
+  // The factor is of P A P^T, analysed in CHOLMOD's natural order: CHOLMOD permutes only for
+  // its systems P, Pt and A of a factor in another order, so P is applied here.
   const std::size_t n = cholmod->rhs->nrow;
   auto *permuted = static_cast<double *>(cholmod->rhs->x);
   for (std::size_t p = 0; p < n; ++p) permuted[p] = b[cholmod->order[p]];

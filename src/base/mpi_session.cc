@@ -1,0 +1,27 @@
+#include <base/mpi_session.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <system_error>
+
+namespace flextrack::base
+{
+std::string prepare_singleton_mpi()
+{
+  if (std::getenv("OMPI_COMM_WORLD_SIZE")) return ""; // started by mpirun
+  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  if (std::getenv("OMPI_MCA_orte_tmpdir_base")) return ""; // the user chose one
+  const char *tmp = std::getenv("TMPDIR");
+  std::string folder = std::string(tmp && *tmp ? tmp : "/tmp") + "/flextrack-mpi-XXXXXX";
+  if (!mkdtemp(folder.data())) return ""; // then Open MPI's default
+  setenv("OMPI_MCA_orte_tmpdir_base", folder.c_str(), 1);
+  return folder;
+}
+
+void remove_mpi_session_folder(const std::string &folder)
+{
+  if (folder.empty()) return;
+  std::error_code ignore;
+  std::filesystem::remove_all(folder, ignore);
+}
+} // namespace flextrack::base

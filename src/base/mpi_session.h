@@ -1,0 +1,20 @@
+// Open MPI's singleton start-up (a process started without mpirun), made safe for many
+// processes starting at once: the FlexTrack executable and the unit tests use it.
+#pragma once
+
+#include <string>
+
+namespace flextrack::base
+{
+/// Call before MPI_Init in a process that was not started by mpirun (no-op under mpirun): the
+/// singleton starts without looking for a runtime daemon (much faster), and gets a session
+/// folder of its own. Singleton processes otherwise share /tmp/ompi.HOST.UID, and one removing
+/// it at MPI_Finalize while another creates its files there made MPI_Init fail ("A call to
+/// mkdir was unable to create the desired directory", exit 1) when several started at once.
+/// Returns that folder ("" if the user chose one, or none could be made), for
+/// remove_mpi_session_folder() after MPI_Finalize.
+std::string prepare_singleton_mpi();
+
+/// Removes @p folder and its contents; nothing for "".
+void remove_mpi_session_folder(const std::string &folder);
+} // namespace flextrack::base
