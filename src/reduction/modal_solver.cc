@@ -207,19 +207,18 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
                       " modes converged; raise 'Modal analysis/Maximum iterations'");
   if (standard)
     {
-      // Back from theta and y to lambda and phi, then one step of inverse iteration on all
-      // shapes at once, phi <- (K - sigma M)^{-1} M phi (scale left to the normalisation below):
-      // mode 3's dseupd refines its Ritz vectors likewise (with the residual), and the step
-      // takes out any part in M's null space (the supported dofs).
-      std::vector<double> M_phi(z.size());
+      // Back from theta and y to lambda and phi. No refinement of the Ritz vectors as mode 3's
+      // dseupd does: that purification is for its semi-definite M-inner product; here the inner
+      // product is Euclidean and OP symmetric, so the Ritz vectors of the wanted (non-zero) theta
+      // are orthogonal to OP's null space (M's, the supported dofs) to round-off. Adding one step
+      // of inverse iteration cost 7 % of the 74k-dof solid's run and 1 s of the 1e5-dof body's.
       for (unsigned int k = 0; k < converged; ++k)
         {
           lambda[k] = shift + 1.0 / lambda[k];
           double *y = z.data() + static_cast<std::size_t>(k) * n_local;
           factorization.solve_upper(y, tmp.data());
-          apply_mass(tmp.data(), M_phi.data() + static_cast<std::size_t>(k) * n_local);
+          std::copy(tmp.begin(), tmp.end(), y);
         }
-      factorization.solve_many(M_phi.data(), z.data(), converged);
     }
   std::vector<int> order(converged);
   std::iota(order.begin(), order.end(), 0);
