@@ -91,8 +91,9 @@ namespace
 {
 /// The widest supernode kept (cap_supernode_width): on the 7.4e4-dof block of the benchmark, 256
 /// columns cut the factor from 59.0 to 53.1 million numbers (and CHOLMOD's largest update
-/// workspace from 1.8 to 0.45 million) at the same time; 128 saves 1.3 million more numbers but
-/// costs 9 % of the eigen solve's time, as BLAS works on narrower panels.
+/// workspace from 1.8 to 0.45 million) for 2.7 % of the run's time (each piece updates its
+/// ancestors on its own); 128 saves 1.3 million more numbers but costs about 9 % of the eigen
+/// solve's time, as BLAS works on narrower panels (doc/benchmarks.md).
 constexpr std::size_t max_supernode_width = 256;
 
 /// Calls @p use(i, j, a_ij) for every stored entry of the upper triangle (j >= i) of
