@@ -11,9 +11,9 @@
 // 1e-3 and 1e-6).
 #include <app/commands.h>
 #include <app/multibody_runs.h>
-#include <base/external_program.h>
 #include <base/input_error.h>
 #include <base/solver_error.h>
+#include <io/gnuplot.h>
 #include <io/multibody_scene.h>
 #include <io/output_folder.h>
 #include <io/path_deviation.h>
@@ -35,6 +35,8 @@ using namespace dealii;
 namespace
 {
 constexpr double reference_rtol = 1e-11, fallback_reference_rtol = 1e-10;
+/// A probe whose reference path spans less than this [m] does not move.
+constexpr double still_probe_extent = 1e-9;
 
 /// One run of the sweep: its settings and what it cost and achieved.
 struct BenchRow
@@ -146,6 +148,8 @@ int bench_command(const Options &options, const io::SceneFile &file)
   for (const auto &p : scene->probes) probe_names.push_back(p->name());
   const unsigned int n_probes = probe_names.size();
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene->output_directory, options.file));
+  out.tidy_previous_run("bench");
+  out.will_add("bench.png");
 
   // Reference
   double rtol_ref = reference_rtol;
@@ -160,6 +164,19 @@ int bench_command(const Options &options, const io::SceneFile &file)
                           ". A work-precision study needs a reference; try a shorter End time.");
     }
   const std::vector<double> extent = path_extents(*reference, n_probes);
+  // A probe that does not move (on the ground, or on a body held still) has no path to compare
+  // errors with: its error is 0 for every run, which made every run "within 1e-6". Such probes
+  // are reported but left out of the relative error; a scene with no moving probe is refused.
+  std::vector<bool> moving(n_probes);
+  std::string still;
+  for (unsigned int p = 0; p < n_probes; ++p)
+    if (!(moving[p] = extent[p] >= still_probe_extent)) still += (still.empty() ? "" : ", ") + probe_names[p];
+  if (still.size() && std::none_of(moving.begin(), moving.end(), [](bool m) { return m; }))
+    throw InputError("Multibody/Probes", "no probe moves more than 1e-9 m in the reference run (" + still +
+                                           "): bench measures each run's error relative to the extent of a probe's "
+                                           "path; add a probe on a moving body", file.name);
+  if (!still.empty())
+    std::cout << "  probes that do not move (left out of the relative error): " << still << std::endl;
   std::cout << "  reference: IDA rtol " << scientific(rtol_ref, 0) << ", " << ref_row.statistics.steps << " steps, "
             << std::setprecision(3) << ref_row.wall << " s; probe path extents [m]:";
   for (unsigned int p = 0; p < n_probes; ++p) std::cout << " " << probe_names[p] << " " << scientific(extent[p], 3);
@@ -207,7 +224,7 @@ int bench_command(const Options &options, const io::SceneFile &file)
           for (unsigned int p = 0; p < n_probes; ++p)
             {
               row.errors[p] = d.largest()[p].distance;
-              row.max_relative = std::max(row.max_relative, row.errors[p] / extent[p]);
+              if (moving[p]) row.max_relative = std::max(row.max_relative, row.errors[p] / extent[p]);
             }
         }
       std::cout << "  [" << i + 1 << "/" << settings.size() << "] " << std::left << std::setw(18) << row.method << std::setw(18)
@@ -245,14 +262,7 @@ int bench_command(const Options &options, const io::SceneFile &file)
           << r.statistics.jacobian_evaluations << "," << io::csv_number(r.peak_memory_mib) << "\n";
     }
   out.add_text("bench.csv", csv.str());
-  out.add_text("bench.gp", "set terminal pngcairo size 900,620 noenhanced\nset output 'bench.png'\n"
-                           "set datafile separator ','\nset logscale xy\nset format y '%.0e'\nset grid\nset key top right\n"
-                           "set xlabel 'integration wall time [s]'\nset ylabel 'largest relative probe error [-]'\n"
-                           "set title 'Work-precision: " + options.file + "'\n"
-                           "plot 'bench.csv' using ($5 > 0 && strcol(1) eq 'ida' ? $" + std::to_string(6 + n_probes) +
-                             " : 1/0):5 with linespoints pt 7 title 'IDA (BDF), rtol 1e-3 ... 1e-10', \\\n"
-                           "     'bench.csv' using ($5 > 0 && strcol(1) eq 'generalized_alpha' ? $" + std::to_string(6 + n_probes) +
-                             " : 1/0):5 with linespoints pt 5 title 'generalised-alpha, fixed steps'\n");
+  out.add_text("bench.gp", io::bench_plot_script("Work-precision: " + options.file, n_probes));
 
   // summary.json: the fastest run of each method under relative errors 1e-3 and 1e-6
   io::JsonObject summary;
@@ -280,10 +290,12 @@ int bench_command(const Options &options, const io::SceneFile &file)
   summary.add("total_wall_time_s", clock.wall.wall_time());
   out.add_summary(summary);
   out.commit();
-  const bool plotted = io::is_first_process() && base::run_program({"gnuplot", "bench.gp"}, out.path()) == 0;
-  std::cout << "  results in " << out.path() << "/ (bench.csv, bench.gp" << (plotted ? ", bench.png" : "")
+  const io::PlotResult plot = io::is_first_process() ? io::draw_png(out.path(), "bench.gp", "bench.png")
+                                                     : io::PlotResult{false, "not the first process"};
+  std::cout << "  results in " << out.path() << "/ (bench.csv, bench.gp" << (plot.drawn ? ", bench.png" : "")
             << ", summary.json)" << std::endl;
-  if (!plotted) std::cout << "  warning: gnuplot is not installed or failed: no bench.png (bench.gp draws it)\n";
+  if (!plot.drawn && io::is_first_process())
+    std::cout << "  warning: no bench.png: " << plot.problem << " (bench.gp draws it)\n";
   return 0;
 }
 } // namespace flextrack::app

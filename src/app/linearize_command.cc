@@ -1,10 +1,12 @@
 // flextrack linearize: the eigenvalues of a multibody scene linearised about its initial state
 // (made consistent first; multibody/linearization.h): frequencies and damping ratios on stdout.
 // A static equilibrium or a steady motion (a hub spinning at a constant driven rate) is the
-// state to give; nothing is integrated and nothing is written.
+// state to give; nothing is integrated. Written to the output folder (-o, Output/Directory or
+// output/<scene>): linear_modes.csv (mode, frequency, damping ratio, eigenvalue) and summary.json.
 #include <app/commands.h>
 #include <base/input_error.h>
 #include <io/multibody_scene.h>
+#include <io/output_folder.h>
 #include <multibody/initial_conditions.h>
 #include <multibody/linearization.h>
 
@@ -12,6 +14,7 @@
 
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace flextrack::app
 {
@@ -62,6 +65,30 @@ int linearize_command(const Options &options, const io::SceneFile &file)
                 << " i" << (grows ? "   UNSTABLE" : "") << "\n";
     }
   if (unstable) std::cout << "  " << unstable << " mode(s) with Re s > 0: the state is unstable\n";
+
+  io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output_directory, options.file));
+  out.tidy_previous_run("linearize");
+  std::ostringstream csv;
+  csv << "mode,frequency_Hz,damping_ratio,eigenvalue_real_per_s,eigenvalue_imag_per_s\n";
+  for (unsigned int k = 0; k < modes.size(); ++k)
+    csv << k + 1 << "," << io::csv_number(modes[k].frequency_hz) << "," << io::csv_number(modes[k].damping_ratio) << ","
+        << io::csv_number(modes[k].eigenvalue.real()) << "," << io::csv_number(modes[k].eigenvalue.imag()) << "\n";
+  out.add_text("linear_modes.csv", csv.str());
+  io::JsonObject summary;
+  std::vector<double> frequencies;
+  for (const auto &m : modes) frequencies.push_back(m.frequency_hz);
+  summary.add("program", "flextrack " FLEXTRACK_VERSION)
+    .add("command", "linearize")
+    .add("parameter_file", options.file)
+    .add("time_s", t0)
+    .add("modes", static_cast<unsigned int>(modes.size()))
+    .add("frequencies_Hz", frequencies)
+    .add("unstable_modes", unstable)
+    .add("total_wall_time_s", clock.wall.wall_time())
+    .raw("parameters", io::parameters_as_json(*scene.parameters));
+  out.add_summary(summary);
+  out.commit();
+  std::cout << "  results in " << out.path() << "/ (linear_modes.csv, summary.json)\n";
   print_timings(clock);
   return 0;
 }

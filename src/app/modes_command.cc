@@ -3,7 +3,7 @@
 // (geometry, fem), solve the eigenproblem (reduction), write results (io). Nothing is written
 // until every computation has succeeded, so a failed run leaves no half-written results behind.
 #include <app/commands.h>
-#include <base/external_program.h>
+#include <io/gnuplot.h>
 #include <base/input_error.h>
 #include <fem/curved_beam_model.h>
 #include <fem/load_case.h>
@@ -99,21 +99,6 @@ ModalRun analyse(const io::ArmScene &scene, const unsigned int refinement, Timer
 }
 
 
-
-/// @p text for a single-quoted gnuplot string: a quote doubled (gnuplot's escape) and control
-/// characters dropped, so a scene's text (a mesh file name, an expression) cannot end the string
-/// and smuggle in gnuplot commands such as system().
-std::string gnuplot_single_quoted(const std::string &text)
-{
-  std::string quoted;
-  for (const char c : text)
-    {
-      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) continue;
-      quoted += c;
-      if (c == '\'') quoted += '\'';
-    }
-  return quoted;
-}
 
 /// The arm or solid scene of @p file, parsed into @p prm (kept for parameters_used.prm), timed.
 io::ArmScene read_scene(const io::SceneFile &file, ParameterHandler &prm, TimerOutput &timer)
@@ -362,17 +347,11 @@ int converge_command(const Options &options, const io::SceneFile &file)
       }
 
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
+  out.tidy_previous_run("converge");
+  out.will_add("convergence.png");
   out.add_text("convergence.csv", csv.str());
   // Plot: relative error against the finest level versus dofs, log-log, one line per mode.
-  std::ostringstream gp;
-  gp << "# gnuplot script written by flextrack converge\n"
-     << "set terminal pngcairo size 900,650\nset output 'convergence.png'\n"
-     << "set datafile separator ','\nset logscale xy\nset grid\nset key outside right\n"
-     << "set xlabel 'degrees of freedom'\nset ylabel 'relative frequency error vs finest level'\n"
-     << "set title '" << gnuplot_single_quoted("Mesh convergence: " + describe(scene)) << "' noenhanced\n"
-     << "plot for [m=1:" << n_modes << "] 'convergence.csv' using ($1==m && $8 > 0 ? $4 : NaN):8 "
-     << "with linespoints title sprintf('mode %d', m)\n";
-  out.add_text("convergence.gp", gp.str());
+  out.add_text("convergence.gp", io::convergence_plot_script("Mesh convergence: " + describe(scene), n_modes));
 
   io::JsonObject summary;
   summary.add("program", "flextrack " FLEXTRACK_VERSION)
@@ -395,9 +374,10 @@ int converge_command(const Options &options, const io::SceneFile &file)
   out.add_summary(summary);
   out.commit();
   // gnuplot runs in the output folder from an argument vector: no shell sees the folder's name.
-  const bool plotted = io::is_first_process() && base::run_program({"gnuplot", "convergence.gp"}, out.path()) == 0;
+  const io::PlotResult plot = io::is_first_process() ? io::draw_png(out.path(), "convergence.gp", "convergence.png")
+                                                     : io::PlotResult{false, "not the first process"};
   std::cout << "\n  results in " << out.path() << "/ (convergence.csv, summary.json"
-            << (plotted ? ", convergence.png" : "; gnuplot not found, no plot") << ")\n  total wall time "
+            << (plot.drawn ? ", convergence.png" : "; no plot: " + plot.problem) << ")\n  total wall time "
             << clock.wall.wall_time() << " s" << std::endl;
   return 0;
 }

@@ -8,7 +8,7 @@
 // then reported with exit status 3.
 #include <app/commands.h>
 #include <app/multibody_runs.h>
-#include <base/external_program.h>
+#include <io/gnuplot.h>
 #include <base/input_error.h>
 #include <base/solver_error.h>
 #include <io/animation_writer.h>
@@ -197,6 +197,7 @@ int run_command(const Options &options, const io::SceneFile &file)
   std::cout << "  " << report.text();
 
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output_directory, options.file));
+  out.tidy_previous_run("run");
   io::RunRecorder recorder(system, scene.probes, out);
   io::ProbePaths paths(system, scene.probes);
   const auto owned_integrator = multibody::make_integrator(system, settings.integrator);
@@ -252,6 +253,7 @@ int run_command(const Options &options, const io::SceneFile &file)
     TimerOutput::Scope t(timer, "write results");
     recorder.write_hdf5(out);
     if (animation) animation->finish(out);
+    if (deviation) out.will_add("deviation.png");
     out.add_parameters(*scene.parameters);
     if (deviation) deviation->write(out);
   }
@@ -294,9 +296,13 @@ int run_command(const Options &options, const io::SceneFile &file)
   }
   out.commit();
   // gnuplot runs in the output folder from an argument vector: no shell sees the folder's name.
-  const bool plotted = deviation && io::is_first_process() && base::run_program({"gnuplot", "deviation.gp"}, out.path()) == 0;
-  if (deviation && !plotted)
-    std::cout << "  warning: gnuplot is not installed or failed: no deviation.png (deviation.gp draws it)\n";
+  bool plotted = false;
+  if (deviation && io::is_first_process())
+    {
+      const io::PlotResult plot = io::draw_png(out.path(), "deviation.gp", "deviation.png");
+      plotted = plot.drawn;
+      if (!plot.drawn) std::cout << "  warning: no deviation.png: " << plot.problem << " (deviation.gp draws it)\n";
+    }
 
   const auto stats = integrator.statistics();
   std::cout << "  " << stats.steps << " steps (" << stats.error_test_failures << " rejected by the error test, "

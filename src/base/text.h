@@ -5,6 +5,7 @@
 //   words("rigid, within 0.1")         -> {"rigid", "within", "0.1"}  (commas count as blanks)
 //   parse_number("2.5", ...)           -> 2.5, or InputError; never nan or inf
 //   parse_vector3("1, 0, 0", ...)      -> {1, 0, 0}, or InputError naming the entry
+//   number_text(1e-10)                 -> "1e-10"
 #pragma once
 
 #include <base/names.h>
@@ -35,6 +36,9 @@ double parse_number(const std::string &word, const std::string &entry, const std
 /// A list of names ("a, b c"): each follows base::name_rule(), none is given twice; InputError
 /// naming @p entry (@p what: "arm name", "body name", ...).
 std::vector<std::string> parse_name_list(const std::string &text, const std::string &entry, const std::string &what);
+
+/// @p x as a short text for messages (6 significant digits: "0.001", "1e-10", "inf").
+std::string number_text(double x);
 
 /// "x, y, z": three finite numbers separated by commas; InputError naming @p entry otherwise.
 std::array<double, 3> parse_vector3(const std::string &text, const std::string &entry, const std::string &unit);

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
+#include <tuple>
 
 namespace flextrack::io
 {
@@ -323,6 +324,15 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
           (scene.settings.end_time - scene.settings.start_time) / scene.animation_interval > 1e5)
         throw InputError("Output/Animation interval", "asks for more than 1e5 frames; choose a longer interval");
       check_references(prm, scene.names);
+      // A listed instance without its subsection got every default: a body became 1 kg at the
+      // origin, a joint a revolute of that body to the ground.
+      for (const auto &[list, kind, names] :
+           {std::make_tuple("Bodies", "Body", &scene.names.bodies), std::make_tuple("Joints", "Joint", &scene.names.joints),
+            std::make_tuple("Forces", "Force", &scene.names.forces), std::make_tuple("Probes", "Probe", &scene.names.probes)})
+        for (const auto &name : *names)
+          if (!file.has_subsection(std::string(kind) + " " + name))
+            throw InputError(std::string("Multibody/") + list, std::string(kind) + " '" + name + "' is listed but has no "
+                               "'subsection " + kind + " " + name + "': describe it there, or take it out of the list");
 
       scene.system = std::make_unique<System>(scene.settings.gravity);
       auto &system = *scene.system;
@@ -334,10 +344,11 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
           scene.body_descriptions.push_back(description);
         });
       const auto lookup = system.body_lookup();
+      const geometry::TimeWindow window{scene.settings.start_time, scene.settings.end_time}; // laws checked over it
       for (const auto &j : scene.names.joints)
-        in_instance(prm, "Joint", j, [&] { system.add_joint(create_joint(j, prm, lookup)); });
+        in_instance(prm, "Joint", j, [&] { system.add_joint(create_joint(j, prm, lookup, window)); });
       for (const auto &f : scene.names.forces)
-        in_instance(prm, "Force", f, [&] { system.add_force(create_force(f, prm, lookup)); });
+        in_instance(prm, "Force", f, [&] { system.add_force(create_force(f, prm, lookup, window)); });
       for (const auto &p : scene.names.probes)
         in_instance(prm, "Probe", p, [&] { scene.probes.push_back(Probe::create(p, prm, lookup)); });
       system.finalize();

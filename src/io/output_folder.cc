@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 namespace flextrack::io
@@ -106,6 +107,10 @@ std::string OutputFolder::add_file(const std::string &name)
   return staged.back().first;
 }
 
+void OutputFolder::tidy_previous_run(const std::string &command) { manifest = ".flextrack_" + command + "_files"; }
+
+void OutputFolder::will_add(const std::string &name) { announced.push_back(name); }
+
 std::vector<std::string> OutputFolder::commit()
 {
   std::vector<std::string> names;
@@ -118,7 +123,40 @@ std::vector<std::string> OutputFolder::commit()
       names.push_back(name);
     }
   committed = true;
+  if (is_first_process() && !manifest.empty()) replace_manifest(names);
   return names;
+}
+
+void OutputFolder::replace_manifest(const std::vector<std::string> &written) const
+{
+  // The files of this run, by their names in the folder: those just renamed, and those a
+  // program adds after the commit (a gnuplot PNG).
+  std::set<std::string> now;
+  for (const auto &path : written) now.insert(fs::path(path).filename().string());
+  for (const auto &name : announced) now.insert(name);
+  // Files the previous run wrote and this one did not (an animation, a deviation plot) would
+  // sit beside this run's results as if they were its own: removed. Only names the manifest
+  // lists are touched, never a user's own file in the folder.
+  const std::string path = folder + "/" + manifest;
+  std::ifstream previous(path);
+  std::string name;
+  while (std::getline(previous, name))
+    if (!name.empty() && name.find('/') == std::string::npos && name != "." && name != ".." && !now.count(name))
+      {
+        std::error_code ignore;
+        if (fs::is_regular_file(folder + "/" + name, ignore)) fs::remove(folder + "/" + name, ignore);
+      }
+  previous.close();
+  std::ostringstream list;
+  for (const auto &n : now) list << n << "\n";
+  try
+    {
+      write_atomically(path, [&](const std::string &temporary) { write_file(temporary, list.str(), path); });
+    }
+  catch (const InputError &)
+    {
+      // The results are committed; without a manifest the next run only cannot tidy up.
+    }
 }
 
 void OutputFolder::add_frequencies(const std::vector<double> &frequencies_hz)

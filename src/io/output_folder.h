@@ -46,7 +46,15 @@ public:
   void add_text(const std::string &name, const std::string &text);
   /// A temporary path for file @p name that a writer fills itself (HDF5, VTU); renamed at commit.
   std::string add_file(const std::string &name);
-  /// Renames every added file to its name; returns the names.
+  /// Tidies up after the previous run of @p command in this folder: commit() then removes the
+  /// files that run wrote (listed in the folder's manifest .flextrack_COMMAND_files) and this one
+  /// did not (an animation.pvd, a deviation.csv of a run whose scene has changed), and lists this
+  /// run's files there. Only files a manifest lists are ever removed; other commands' files and a
+  /// user's own are kept.
+  void tidy_previous_run(const std::string &command);
+  /// A file a program adds to the folder after commit() (gnuplot's PNG): listed in the manifest.
+  void will_add(const std::string &name);
+  /// Renames every added file to its name; returns the names (then the manifest, above).
   std::vector<std::string> commit();
 
   /// frequencies.csv: mode, frequency [Hz].
@@ -59,7 +67,10 @@ public:
 private:
   std::string folder;
   std::vector<std::pair<std::string, std::string>> staged; // temporary, final
+  std::vector<std::string> announced;                      // will_add()
+  std::string manifest;                                    // tidy_previous_run(): its name in the folder
   bool committed = false;
+  void replace_manifest(const std::vector<std::string> &written) const;
 };
 
 /// Every parameter as JSON (short form), for summary.json.

@@ -1,6 +1,8 @@
 // Deviation of a run's probe paths from the rigid reference run (path_deviation.h).
 #include <io/path_deviation.h>
 
+#include <io/gnuplot.h>
+
 #include <cmath>
 #include <sstream>
 
@@ -51,25 +53,7 @@ void PathDeviation::write(OutputFolder &out) const
     }
   out.add_text("deviation.csv", csv.str());
 
-  // Columns: probes.csv has time, then 6 per probe (x, y, z, vx, vy, vz); deviation.csv time,
-  // then 4 per probe. Probe names are letters, digits and '_' (base/names.h): safe inside a
-  // single-quoted gnuplot string; 'noenhanced' keeps '_' from becoming a subscript.
-  std::ostringstream gp;
-  gp << "# gnuplot script written by flextrack run (Multibody/Rigid reference): deviation.png\n"
-     << "set terminal pngcairo size 1200,520\nset output 'deviation.png'\nset termoption noenhanced\n"
-     << "set datafile separator ','\nset grid\nset key top left\n"
-     << "set multiplot layout 1,2 title 'Probe paths: the run and its rigid reference (every body rigid)'\n"
-     << "set title 'path, x-y projection'\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset size ratio -1\nplot ";
-  for (std::size_t p = 0; p < names.size(); ++p)
-    gp << (p ? ", " : "") << "'probes.csv' using " << 2 + 6 * p << ":" << 3 + 6 * p << " with lines lw 2 title '"
-       << names[p] << "'" << ", 'deviation.csv' using " << 2 + 4 * p << ":" << 3 + 4 * p
-       << " with lines dt 2 lw 2 title '" << names[p] << ", rigid'";
-  gp << "\nset size noratio\nset title 'deviation from the rigid path'\nset xlabel 'time [s]'\n"
-     << "set ylabel '|r - r_rigid| [mm]'\nplot ";
-  for (std::size_t p = 0; p < names.size(); ++p)
-    gp << (p ? ", " : "") << "'deviation.csv' using 1:($" << 5 + 4 * p << "*1000) with lines lw 2 title '" << names[p] << "'";
-  gp << "\nunset multiplot\n";
-  out.add_text("deviation.gp", gp.str());
+  out.add_text("deviation.gp", deviation_plot_script(names));
 }
 
 std::string PathDeviation::json(const unsigned int indent) const

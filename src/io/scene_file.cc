@@ -6,6 +6,7 @@
 #include <io/scene_file.h>
 #include <multibody/simulation_settings.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -166,6 +167,30 @@ void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const
   refuse_subnormal_numbers(prm, name);
 }
 
+namespace
+{
+/// True if @p text holds anything besides blanks and comments ('#' to the end of a line in a
+/// .prm file; a JSON file must hold more than an empty object).
+bool has_entries(const std::string &text, const bool json)
+{
+  if (json)
+    {
+      std::string compact;
+      for (const char c : text)
+        if (!std::isspace(static_cast<unsigned char>(c))) compact += c;
+      return !compact.empty() && compact != "{}";
+    }
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line))
+    {
+      const auto first = line.find_first_not_of(" \t\r");
+      if (first != std::string::npos && line[first] != '#') return true;
+    }
+  return false;
+}
+} // namespace
+
 SceneFile SceneFile::from_text(const std::string &text, const std::string &directory, const bool json)
 {
   SceneFile scene;
@@ -180,6 +205,10 @@ SceneFile SceneFile::from_text(const std::string &text, const std::string &direc
     }
   else
     scene.text = expand_includes(text, scene.name, directory, 0);
+  // An empty file parsed to every default: the default scene of its model ran, exit 0.
+  if (!has_entries(scene.text, json))
+    throw InputError("", "holds no entries (only blanks and comments): write the scene (doc/user_guide.md), or run "
+                         "'flextrack' with no arguments for the default scene", scene.name);
   scene.lists = std::make_shared<ParameterHandler>();
   declare_first_pass(*scene.lists);
   scene.parse(*scene.lists, true);
@@ -201,5 +230,20 @@ SceneFile SceneFile::read(const std::string &file)
     {
       throw e.file().empty() || e.file() == "<string>" ? e.in_file(file) : e;
     }
+}
+bool SceneFile::has_subsection(const std::string &subsection) const
+{
+  if (json) return text.find("\"" + subsection + "\"") != std::string::npos;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line))
+    {
+      const auto hash = line.find('#');
+      const std::string code = base::trim(hash == std::string::npos ? line : line.substr(0, hash));
+      if (code.rfind("subsection", 0) == 0 && code.size() > 10 && std::isspace(static_cast<unsigned char>(code[10])) &&
+          base::trim(code.substr(10)) == subsection)
+        return true;
+    }
+  return false;
 }
 } // namespace flextrack::io

@@ -39,6 +39,10 @@ struct SceneFile
   /// The same from text (tests); @p directory resolves relative file names.
   static SceneFile from_text(const std::string &text, const std::string &directory = ".", bool json = false);
 
+  /// True if the text opens `subsection SUBSECTION` (a .prm file) or has the key "SUBSECTION"
+  /// (JSON): a listed instance without its subsection would get every default silently.
+  bool has_subsection(const std::string &subsection) const;
+
   /// Parses the text into @p prm; deal.II's errors become InputError naming this file.
   void parse(dealii::ParameterHandler &prm, bool skip_undefined) const;
 };

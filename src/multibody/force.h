@@ -102,6 +102,8 @@ private:
 
 /// Entries of a `subsection Force NAME` (Kind and the entries of every kind).
 void declare_force_parameters(dealii::ParameterHandler &prm);
-/// The force of the current subsection; InputError naming "Force NAME/..." for bad input.
-std::unique_ptr<Force> create_force(const std::string &name, dealii::ParameterHandler &prm, const BodyLookup &bodies);
+/// The force of the current subsection; InputError naming "Force NAME/..." for bad input. Its
+/// load laws are checked over the run's @p window (geometry/time_law.h; empty: not checked).
+std::unique_ptr<Force> create_force(const std::string &name, dealii::ParameterHandler &prm, const BodyLookup &bodies,
+                                    const geometry::TimeWindow &window = {});
 } // namespace flextrack::multibody

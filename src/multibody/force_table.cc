@@ -43,13 +43,17 @@ std::unique_ptr<Marker> marker_entry(ParameterHandler &prm, const Body &body, co
   return FixedMarker::at_global_pose(body, name, position, axes, q.data());
 }
 
-std::array<geometry::Expression, 3> expressions(ParameterHandler &prm, const std::string &entry, const std::string &prefix)
+std::array<geometry::Expression, 3> expressions(ParameterHandler &prm, const std::string &entry, const std::string &prefix,
+                                                const geometry::TimeWindow &window)
 {
   const auto items = base::split(prm.get(entry), ';');
   if (items.size() != 3) throw InputError(prefix + entry, "needs three expressions of t separated by ';'");
   try
     {
-      return {geometry::Expression(items[0], "t"), geometry::Expression(items[1], "t"), geometry::Expression(items[2], "t")};
+      std::array<geometry::Expression, 3> laws{geometry::Expression(items[0], "t"), geometry::Expression(items[1], "t"),
+                                               geometry::Expression(items[2], "t")};
+      for (const auto &law : laws) geometry::check_time_law(law, window, 0);
+      return laws;
     }
   catch (const geometry::ExpressionError &e)
     {
@@ -78,7 +82,8 @@ void declare_force_parameters(ParameterHandler &prm)
   prm.declare_entry("Free angle", "0", Patterns::Double(), "Rotational spring free angle [rad] (0: the initial configuration).");
 }
 
-std::unique_ptr<Force> create_force(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies)
+std::unique_ptr<Force> create_force(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,
+                                    const geometry::TimeWindow &window)
 {
   const std::string prefix = "Force " + name + "/";
   if (!base::is_valid_name(name)) throw InputError("Force " + base::printable_excerpt(name), "is not a valid force name (" + base::name_rule() + ")");
@@ -86,16 +91,23 @@ std::unique_ptr<Force> create_force(const std::string &name, ParameterHandler &p
   const Body &b1 = body_entry(prm, "Body 1", prefix, bodies);
   auto m1 = marker_entry(prm, b1, "Position 1", prefix, name + "_1");
   if (kind == "applied load")
-    return std::make_unique<AppliedLoad>(name, std::move(m1), expressions(prm, "Force", prefix),
-                                         expressions(prm, "Torque", prefix), prm.get_bool("Body axes"));
+    return std::make_unique<AppliedLoad>(name, std::move(m1), expressions(prm, "Force", prefix, window),
+                                         expressions(prm, "Torque", prefix, window), prm.get_bool("Body axes"));
   const Body &b2 = body_entry(prm, "Body 2", prefix, bodies);
   const std::string p2 = kind == "spring damper" ? "Position 2" : "Position 1"; // coaxial markers for the rotational one
   auto m2 = marker_entry(prm, b2, p2, prefix, name + "_2");
   const double k = prm.get_double("Stiffness"), c = prm.get_double("Damping");
   if (kind == "spring damper")
     {
+      const double distance =
+        (vector_entry(prm, "Position 1", prefix, "m") - vector_entry(prm, "Position 2", prefix, "m")).norm();
+      // The force acts along the line between the points: at coincident points it has no direction.
+      if (!(distance > 1e-9))
+        throw InputError(prefix + "Position 2", "is " + std::to_string(distance) + " m from Position 1: a spring damper "
+                                                "acts along the line between its two points, which must be apart at the "
+                                                "start (more than 1e-9 m); use a joint to hold two points together");
       double L0 = prm.get_double("Free length");
-      if (L0 < 0) L0 = (vector_entry(prm, "Position 1", prefix, "m") - vector_entry(prm, "Position 2", prefix, "m")).norm();
+      if (L0 < 0) L0 = distance;
       return std::make_unique<SpringDamper>(name, std::move(m1), std::move(m2), k, c, L0);
     }
   return std::make_unique<RotationalSpringDamper>(name, std::move(m1), std::move(m2), k, c, prm.get_double("Free angle"));

@@ -211,6 +211,12 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
 {
   Assert(sun->ida, ExcMessage("initialize() first"));
   IDASetStopTime(sun->ida, t_end);
+  // A step floor relative to the run (issue 23, item 5): a law or a force that grows without
+  // bound made IDA take ever smaller steps, accepted, for minutes. Below 1e-12 of the run the
+  // step makes no progress worth its cost; IDA then stops with its error or convergence failure
+  // at |h| = hmin, reported by fail() as a collapsed step.
+  smallest_step = std::max(0.0, 1e-12 * (t_end - output_origin));
+  IDASetMinStep(sun->ida, smallest_step);
   roots.assign(n_roots, 0);
   // Output times t0 + k dt (not a running sum, which leaves 7.009999999999895 for 7.01).
   double next_output = next_output_time(t_now, output_interval, t_end);
@@ -324,7 +330,10 @@ void IdaIntegrator::fail(const int flag) const
     << h << " s: " << last_message << " (flag " << flag << "). Largest weighted local error: "
     << system.component_name(worst_error) << "; largest residual: " << system.component_name(worst_residual) << " ("
     << F[worst_residual] << "). What to change: ";
-  if (flag == IDA_TOO_MUCH_WORK)
+  if (std::abs(h) <= 1.01 * smallest_step && flag != IDA_TOO_MUCH_WORK)
+    s << "the step size collapsed to 1e-12 of the run: something grows without bound or jumps near that time (a "
+         "driver, a load, a spring); check the entries of the joints and forces acting there";
+  else if (flag == IDA_TOO_MUCH_WORK)
     s << "raise 'Maximum steps' or shorten the run";
   else if (flag == IDA_TOO_MUCH_ACC)
     s << "loosen the tolerances";

@@ -53,6 +53,7 @@ private:
   /// IDA's counters before the last reinitialize() (IDAReInit sets them to zero).
   IntegratorStatistics before_restart;
   double t_now = 0;
+  double smallest_step = 0; ///< IDA's hmin in integrate() [s]: 1e-12 of the run
   mutable std::string last_message;
 
   friend struct IdaCallbacks;

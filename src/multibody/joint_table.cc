@@ -31,12 +31,20 @@ const Body &body_entry(ParameterHandler &prm, const std::string &entry, const st
 }
 
 /// Global joint axes (columns x, y, z) from the z axis and an optional x reference.
-Matrix3 joint_axes(const Vector3 &axis, const Vector3 &reference, const std::string &prefix)
+/// The default of "Reference axis" (replaced by any perpendicular when Axis is along it).
+const char *const default_reference_axis = "1, 0, 0";
+
+Matrix3 joint_axes(const Vector3 &axis, const Vector3 &reference, const std::string &prefix, const bool reference_given)
 {
   if (axis.norm() == 0) throw InputError(prefix + "Axis", "must not be zero");
   const Vector3 z = axis / axis.norm();
   Vector3 x = reference - (reference * z) * z;
-  if (x.norm() < 1e-8) // no usable reference: any perpendicular
+  // A reference axis the scene gave sets the joint's zero angle (a driver's, a spring's): one
+  // parallel to Axis cannot, and replacing it silently moved that zero.
+  if (reference_given && !(x.norm() >= 1e-8 * reference.norm()))
+    throw InputError(prefix + "Reference axis", "is parallel to Axis (or zero): it must have a part perpendicular to "
+                                                "Axis, which becomes the joint's x axis");
+  if (x.norm() < 1e-8) // the default reference along Axis: any perpendicular
     {
       const Vector3 trial = std::abs(z[0]) < 0.9 ? Vector3({1, 0, 0}) : Vector3({0, 1, 0});
       x = trial - (trial * z) * z;
@@ -54,13 +62,16 @@ Matrix3 joint_axes(const Vector3 &axis, const Vector3 &reference, const std::str
 }
 
 std::unique_ptr<Joint> make_mask_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,
+                                        const geometry::TimeWindow &window,
                                        const JointMask &mask, const DriverKind drivable)
 {
   const std::string prefix = "Joint " + name + "/";
   const Body &b1 = body_entry(prm, "Body 1", prefix, bodies), &b2 = body_entry(prm, "Body 2", prefix, bodies);
   if (&b1 == &b2) throw InputError(prefix + "Body 2", "joins body '" + b1.name() + "' to itself");
   const Vector3 position = vector_entry(prm, "Position", prefix, "m");
-  const Matrix3 axes = joint_axes(vector_entry(prm, "Axis", prefix, "-"), vector_entry(prm, "Reference axis", prefix, "-"), prefix);
+  const bool reference_given = base::trim(prm.get("Reference axis")) != default_reference_axis;
+  const Matrix3 axes = joint_axes(vector_entry(prm, "Axis", prefix, "-"), vector_entry(prm, "Reference axis", prefix, "-"),
+                                  prefix, reference_given);
 
   std::unique_ptr<Marker> m[2];
   const Body *b[2] = {&b1, &b2};
@@ -88,6 +99,7 @@ std::unique_ptr<Joint> make_mask_joint(const std::string &name, ParameterHandler
       try
         {
           law = std::make_shared<geometry::Expression>(law_text, "t");
+          geometry::check_time_law(*law, window, 2); // an angle or a displacement: its rate and acceleration too
         }
       catch (const geometry::ExpressionError &e)
         {
@@ -98,12 +110,7 @@ std::unique_ptr<Joint> make_mask_joint(const std::string &name, ParameterHandler
   return std::make_unique<GenericJoint>(name, std::move(m[0]), std::move(m[1]), mask, driver, law);
 }
 
-std::string number_text(const double x)
-{
-  std::ostringstream m;
-  m << x;
-  return m.str();
-}
+using base::number_text;
 
 /// The arm called @p arm of body @p b, with its geometry; InputError naming @p entry.
 const reduction::ArmModeData &track_arm(const Body &b, const std::string &arm, const std::string &entry)
@@ -139,7 +146,8 @@ struct ContactInput
   double s0 = 0, s0_rate = 0;
 };
 
-ContactInput parse_contact(ParameterHandler &prm, const std::string &prefix, const Body &carrier, const std::string &suffix)
+ContactInput parse_contact(ParameterHandler &prm, const std::string &prefix, const Body &carrier, const std::string &suffix,
+                           const geometry::TimeWindow &window)
 {
   ContactInput c;
   c.arm = &track_arm(carrier, base::trim(prm.get("Arm" + suffix)), prefix + "Arm" + suffix);
@@ -156,6 +164,8 @@ ContactInput parse_contact(ParameterHandler &prm, const std::string &prefix, con
       try
         {
           c.sliding.law = std::make_shared<geometry::Expression>(law_text, "t");
+          // A force [N] is used as it is; an arc length s_d(t) [m] with its rate and acceleration.
+          geometry::check_time_law(*c.sliding.law, window, c.sliding.drive == TrackDrive::motion ? 2 : 0);
         }
       catch (const geometry::ExpressionError &e)
         {
@@ -208,12 +218,13 @@ MarkerKinematics initial_pose(const Marker &m, const double s0, Matrix3 &axes)
 }
 
 std::unique_ptr<Joint> make_track_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,
+                                         const geometry::TimeWindow &window,
                                         const JointMask &mask)
 {
   const std::string prefix = "Joint " + name + "/";
   const Body &slider = body_entry(prm, "Body 1", prefix, bodies), &carrier = body_entry(prm, "Body 2", prefix, bodies);
   if (&slider == &carrier) throw InputError(prefix + "Body 2", "joins body '" + slider.name() + "' to itself");
-  const ContactInput contact = parse_contact(prm, prefix, carrier, "");
+  const ContactInput contact = parse_contact(prm, prefix, carrier, "", window);
   auto track = make_track(carrier, name + "_on_" + contact.arm->name, contact);
   // The slider's marker: at the contact's initial place, with the contact's axes.
   Matrix3 axes;
@@ -234,11 +245,12 @@ std::unique_ptr<Joint> make_track_joint(const std::string &name, ParameterHandle
 }
 
 std::unique_ptr<Joint> make_sleeve(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,
+                                    const geometry::TimeWindow &window,
                                    const JointMask &mask)
 {
   const std::string prefix = "Joint " + name + "/";
   const Body &body_1 = body_entry(prm, "Body 1", prefix, bodies), &body_2 = body_entry(prm, "Body 2", prefix, bodies);
-  const ContactInput c1 = parse_contact(prm, prefix, body_1, " 1"), c2 = parse_contact(prm, prefix, body_2, "");
+  const ContactInput c1 = parse_contact(prm, prefix, body_1, " 1", window), c2 = parse_contact(prm, prefix, body_2, "", window);
   if (&body_1 == &body_2 && c1.arm == c2.arm)
     throw InputError(prefix + "Arm 1", "a sleeve joins two different arms; both are arm '" + c1.arm->name + "' of body '" +
                                          body_1.name() + "'");
@@ -263,16 +275,16 @@ std::unique_ptr<Joint> make_sleeve(const std::string &name, ParameterHandler &pr
 
 JointKind track_kind(const std::string &name, const std::string &doc, const JointMask mask)
 {
-  return {name, doc, [mask](const std::string &n, ParameterHandler &prm, const BodyLookup &b) {
-            return make_track_joint(n, prm, b, mask);
+  return {name, doc, [mask](const std::string &n, ParameterHandler &prm, const BodyLookup &b, const geometry::TimeWindow &w) {
+            return make_track_joint(n, prm, b, w, mask);
           }};
 }
 
 JointKind mask_kind(const std::string &name, const std::string &doc, const JointMask mask,
                     const DriverKind drivable = DriverKind::none)
 {
-  return {name, doc, [mask, drivable](const std::string &n, ParameterHandler &prm, const BodyLookup &b) {
-            return make_mask_joint(n, prm, b, mask, drivable);
+  return {name, doc, [mask, drivable](const std::string &n, ParameterHandler &prm, const BodyLookup &b, const geometry::TimeWindow &w) {
+            return make_mask_joint(n, prm, b, w, mask, drivable);
           }};
 }
 } // namespace
@@ -302,8 +314,8 @@ const std::vector<JointKind> &joint_kinds()
     {"double_arm_sleeve",
      "a sleeve sliding along arm 'Arm' of body 2 (s_I) that holds arm 'Arm 1' of body 1 (s_II) at the angle the two "
      "arms make at the start (seed eqs. 41-43); entries ending in ' 1' set arm II's contact",
-     [](const std::string &n, ParameterHandler &prm, const BodyLookup &b) {
-       return make_sleeve(n, prm, b, JointMask{{{true, true, true}}, {{true, true, true}}});
+     [](const std::string &n, ParameterHandler &prm, const BodyLookup &b, const geometry::TimeWindow &w) {
+       return make_sleeve(n, prm, b, w, JointMask{{{true, true, true}}, {{true, true, true}}});
      }},
   };
   return kinds;
@@ -325,7 +337,7 @@ void declare_joint_parameters(ParameterHandler &prm)
   prm.declare_entry("Body 2", "ground", Patterns::Anything(), "Name of the second body (the base, whose marker axes are the joint axes) [-].");
   prm.declare_entry("Position", "0, 0, 0", Patterns::Anything(), "Joint origin, global, at the initial configuration [m].");
   prm.declare_entry("Axis", "0, 0, 1", Patterns::Anything(), "Joint z axis, global, at the initial configuration [-].");
-  prm.declare_entry("Reference axis", "1, 0, 0", Patterns::Anything(),
+  prm.declare_entry("Reference axis", default_reference_axis, Patterns::Anything(),
                     "Joint x axis (made perpendicular to z), global, at the initial configuration [-].");
   prm.declare_entry("Interface 1", "", Patterns::Anything(),
                     "Interface of body 1 (flexible) the joint attaches to; empty: the joint position [-].");
@@ -377,12 +389,13 @@ void declare_joint_parameters(ParameterHandler &prm)
                     "Double-arm sleeve: hold speed at the end stops of arm 1 [m/s], 0 to 1e6.");
 }
 
-std::unique_ptr<Joint> create_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies)
+std::unique_ptr<Joint> create_joint(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,
+                                    const geometry::TimeWindow &window)
 {
   if (!base::is_valid_name(name)) throw InputError("Joint " + base::printable_excerpt(name), "is not a valid joint name (" + base::name_rule() + ")");
   const std::string kind = prm.get("Kind");
   for (const auto &k : joint_kinds())
-    if (k.name == kind) return k.create(name, prm, bodies);
+    if (k.name == kind) return k.create(name, prm, bodies, window);
   throw InputError("Joint " + name + "/Kind", "unknown joint kind '" + kind + "'; allowed: " + joint_kind_names());
 }
 } // namespace flextrack::multibody

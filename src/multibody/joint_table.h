@@ -12,6 +12,7 @@
 //   set Driver = 2*pi*t           # revolute: angle [rad]; prismatic: displacement [m]
 #pragma once
 
+#include <geometry/time_law.h>
 #include <multibody/joint.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -29,7 +30,8 @@ using BodyLookup = std::function<const Body *(const std::string &)>;
 struct JointKind
 {
   std::string name, documentation;
-  std::function<std::unique_ptr<Joint>(const std::string &name, dealii::ParameterHandler &prm, const BodyLookup &)>
+  std::function<std::unique_ptr<Joint>(const std::string &name, dealii::ParameterHandler &prm, const BodyLookup &,
+                                       const geometry::TimeWindow &)>
     create;
 };
 
@@ -40,6 +42,8 @@ std::string joint_kind_names();
 
 /// The entries of a joint subsection (Kind and the entries of every kind; same names are shared).
 void declare_joint_parameters(dealii::ParameterHandler &prm);
-/// The joint of the current subsection; InputError (entry "Joint NAME/...") for bad input.
-std::unique_ptr<Joint> create_joint(const std::string &name, dealii::ParameterHandler &prm, const BodyLookup &bodies);
+/// The joint of the current subsection; InputError (entry "Joint NAME/...") for bad input. Its
+/// drivers are checked over the run's @p window (geometry/time_law.h; an empty window: not checked).
+std::unique_ptr<Joint> create_joint(const std::string &name, dealii::ParameterHandler &prm, const BodyLookup &bodies,
+                                    const geometry::TimeWindow &window = {});
 } // namespace flextrack::multibody

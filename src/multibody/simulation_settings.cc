@@ -101,23 +101,39 @@ SimulationSettings SimulationSettings::parse_parameters(ParameterHandler &prm)
   s.integrator.parse_parameters(prm);
   prm.leave_subsection();
   prm.leave_subsection();
-  // Zero tolerances are legal numbers but leave IDA an error weight of 1/0.
-  if (!(s.integrator.absolute_tolerance > 0))
-    throw InputError("Multibody/Integrator/Absolute tolerance", "must be > 0 (m, rad, modal units and per s)");
-  if (!(s.integrator.velocity_tolerance <= 1e6))
-    throw InputError("Multibody/Integrator/Velocity tolerance", "must be >= 0 and <= 1e6 (m/s, rad/s, modal units/s)");
-  if (!(s.integrator.multiplier_tolerance > 0))
-    throw InputError("Multibody/Integrator/Multiplier tolerance", "must be > 0 (N, N m, 1/s)");
-  if (!(s.integrator.relative_tolerance < 1))
-    throw InputError("Multibody/Integrator/Relative tolerance", "must be < 1");
-  if (!(s.integrator.step > 0) || !(s.integrator.step <= 1e3))
-    throw InputError("Multibody/Integrator/Step", "must be > 0 and <= 1000 (s)");
+  // Zero tolerances are legal numbers but leave IDA an error weight of 1/0; tolerances below
+  // round-off (1e-300) left IDA stuck at the start ("tstop = 1 is behind current t = 0"), and
+  // bench scales the absolute tolerances by rtol / (the scene's rtol), which a 0 made infinite.
+  const auto &in = s.integrator;
+  using base::number_text;
+  if (!(in.absolute_tolerance >= 1e-15))
+    throw InputError("Multibody/Integrator/Absolute tolerance", "must be >= 1e-15 (m, rad, modal units and per s)");
+  if (!(in.velocity_tolerance == 0 || (in.velocity_tolerance >= 1e-15 && in.velocity_tolerance <= 1e6)))
+    throw InputError("Multibody/Integrator/Velocity tolerance", "must be 0 (the absolute tolerance) or from 1e-15 to 1e6 "
+                                                               "(m/s, rad/s, modal units/s)");
+  if (!(in.multiplier_tolerance >= 1e-15))
+    throw InputError("Multibody/Integrator/Multiplier tolerance", "must be >= 1e-15 (N, N m, 1/s)");
+  if (!(in.relative_tolerance >= 1e-14 && in.relative_tolerance < 1))
+    throw InputError("Multibody/Integrator/Relative tolerance", "must be from 1e-14 (about 50 times the round-off of "
+                                                               "double precision) to below 1");
+  if (!(s.end_time > s.start_time))
+    throw InputError("Multibody/End time", "must be later than the start time (" + std::to_string(s.start_time) + " s)");
+  // Steps far below the run's duration cannot make progress in double precision (t + h == t
+  // near t = 1 for h < 1e-16); 1e-10 of the run leaves any method 1e10 steps, beyond every use.
+  const double span = s.end_time - s.start_time, smallest = 1e-10 * span;
+  const std::string range = "(s), from " + number_text(smallest) + " s (1e-10 of the run) to the run's " + number_text(span) + " s";
+  if (!(in.step >= smallest) || !(in.step <= std::max(span, 1e3)))
+    throw InputError("Multibody/Integrator/Step", "must be from " + number_text(smallest) + " s (1e-10 of the run) to " +
+                                                  number_text(std::max(span, 1e3)) + " s");
+  if (in.initial_step != 0 && !(in.initial_step >= smallest && in.initial_step <= span))
+    throw InputError("Multibody/Integrator/Initial step", "must be 0 (IDA's estimate) or " + range);
+  if (in.max_step != 0 && !(in.max_step >= smallest))
+    throw InputError("Multibody/Integrator/Maximum step", "must be 0 (no limit) or at least " + number_text(smallest) +
+                                                          " s (1e-10 of the run)");
   if (s.integrator.method == IntegrationMethod::generalized_alpha && !s.integrator.adaptive_step &&
       (s.end_time - s.start_time) / s.integrator.step > 1e8)
     throw InputError("Multibody/Integrator/Step", "gives more than 1e8 steps over the run; choose a longer step or "
                                                   "'Adaptive step' = true");
-  if (!(s.end_time > s.start_time))
-    throw InputError("Multibody/End time", "must be later than the start time (" + std::to_string(s.start_time) + " s)");
   if (s.output_interval > 0 && (s.end_time - s.start_time) / s.output_interval > 1e7)
     throw InputError("Multibody/Output interval", "asks for more than 1e7 output rows; choose a longer interval");
   return s;

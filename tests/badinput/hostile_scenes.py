@@ -277,11 +277,13 @@ def run(exe, work, args, case, mpirun):
     return status, err, time.monotonic() - start
 
 
-def main():
+def main(cases=None):
+    """Runs the case named on the command line, from @p cases (default: CASES)."""
+    cases = CASES if cases is None else cases
     exe, work, name = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2]), sys.argv[3]
     mpirun = sys.argv[4] if len(sys.argv) > 4 else "mpirun"
     source = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    case = CASES[name]
+    case = cases[name]
     work = os.path.join(work, name)
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
@@ -305,6 +307,11 @@ def main():
     # The output folder: -o, else output/<scene file stem> (no sample scene sets Output/Directory).
     out = os.path.join(work, "out") if "-o" in case["args"] else os.path.join(
         work, "output", os.path.splitext(os.path.basename(case["args"][1]))[0])
+    # Files no run may create anywhere (a command smuggled into a script: touch PWNED).
+    for folder, _, names in os.walk(work):
+        for f in case.get("absent", []):
+            if f in names:
+                problems.append(f"a file {f} appeared in {folder}: input text ran a command")
     if status is None:
         problems.append("did not finish within 60 s")
     elif status not in expected:

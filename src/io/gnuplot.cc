@@ -1,0 +1,134 @@
+#include <io/gnuplot.h>
+
+#include <base/external_program.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+namespace flextrack::io
+{
+std::string gnuplot_string(const std::string &text)
+{
+  // gnuplot's own escape of a quote inside single quotes ('') is ambiguous where the text starts
+  // with a quote: in a plot title ''' reads as an empty string and a stray quote, and the plot
+  // fails. So no quote is ever written inside a literal: the text is cut at each quote and the
+  // pieces are joined by the string "'" ('it'."'".'s'). A double-quoted string that holds only a
+  // quote has nothing for gnuplot to interpret (no backslash, no backquote).
+  std::string quoted = "'";
+  for (const char c : text)
+    {
+      const auto byte = static_cast<unsigned char>(c);
+      if (byte < 0x20 || byte == 0x7f)
+        quoted += ' ';
+      else if (c == '\'')
+        quoted += "'.\"'\".'";
+      else
+        quoted += c;
+    }
+  return quoted + "'";
+}
+
+namespace
+{
+/// The first lines of every script: a PNG terminal and the output file png_file (set by
+/// draw_png to a temporary name; the final name when a user runs the script by hand).
+std::string png_preamble(const std::string &png, const std::string &size)
+{
+  return "set terminal pngcairo size " + size + " noenhanced\n" + "if (!exists('png_file')) png_file = " +
+         gnuplot_string(png) + "\nset output png_file\n";
+}
+} // namespace
+
+std::string convergence_plot_script(const std::string &title, const unsigned int n_modes)
+{
+  std::ostringstream gp;
+  gp << "# gnuplot script written by flextrack converge: convergence.png\n"
+     << png_preamble("convergence.png", "900,650") << "set datafile separator ','\nset logscale xy\nset grid\n"
+     << "set key outside right\nset xlabel 'degrees of freedom'\n"
+     << "set ylabel 'relative frequency error vs finest level'\n"
+     << "set title " << gnuplot_string(title) << "\n"
+     << "plot for [m=1:" << n_modes << "] 'convergence.csv' using ($1==m && $8 > 0 ? $4 : NaN):8 "
+     << "with linespoints title sprintf('mode %d', m)\n";
+  return gp.str();
+}
+
+std::string bench_plot_script(const std::string &title, const unsigned int n_probes)
+{
+  const std::string wall = std::to_string(6 + n_probes);
+  std::ostringstream gp;
+  gp << "# gnuplot script written by flextrack bench: bench.png\n"
+     << png_preamble("bench.png", "900,620") << "set datafile separator ','\nset logscale xy\n"
+     << "set format y '%.0e'\nset grid\nset key top right\n"
+     << "set xlabel 'integration wall time [s]'\nset ylabel 'largest relative probe error [-]'\n"
+     << "set title " << gnuplot_string(title) << "\n"
+     << "plot 'bench.csv' using ($5 > 0 && strcol(1) eq 'ida' ? $" << wall
+     << " : 1/0):5 with linespoints pt 7 title 'IDA (BDF), rtol 1e-3 ... 1e-10', \\\n"
+     << "     'bench.csv' using ($5 > 0 && strcol(1) eq 'generalized_alpha' ? $" << wall
+     << " : 1/0):5 with linespoints pt 5 title 'generalised-alpha, fixed steps'\n";
+  return gp.str();
+}
+
+std::string deviation_plot_script(const std::vector<std::string> &names)
+{
+  // Columns: probes.csv has time, then 6 per probe (x, y, z, vx, vy, vz); deviation.csv time,
+  // then 4 per probe.
+  std::ostringstream gp;
+  gp << "# gnuplot script written by flextrack run (Multibody/Rigid reference): deviation.png\n"
+     << png_preamble("deviation.png", "1200,520") << "set datafile separator ','\nset grid\nset key top left\n"
+     << "set multiplot layout 1,2 title 'Probe paths: the run and its rigid reference (every body rigid)'\n"
+     << "set title 'path, x-y projection'\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset size ratio -1\nplot ";
+  for (std::size_t p = 0; p < names.size(); ++p)
+    gp << (p ? ", " : "") << "'probes.csv' using " << 2 + 6 * p << ":" << 3 + 6 * p << " with lines lw 2 title "
+       << gnuplot_string(names[p]) << ", 'deviation.csv' using " << 2 + 4 * p << ":" << 3 + 4 * p
+       << " with lines dt 2 lw 2 title " << gnuplot_string(names[p] + ", rigid");
+  gp << "\nset size noratio\nset title 'deviation from the rigid path'\nset xlabel 'time [s]'\n"
+     << "set ylabel '|r - r_rigid| [mm]'\nplot ";
+  for (std::size_t p = 0; p < names.size(); ++p)
+    gp << (p ? ", " : "") << "'deviation.csv' using 1:($" << 5 + 4 * p << "*1000) with lines lw 2 title "
+       << gnuplot_string(names[p]);
+  gp << "\nunset multiplot\n";
+  return gp.str();
+}
+
+namespace
+{
+/// True if @p path holds a whole PNG: its signature first and its IEND chunk last (a write cut
+/// short by a full disk keeps the first and loses the second).
+bool is_complete_png(const std::string &path)
+{
+  std::ifstream f(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  static const std::string signature("\x89PNG\r\n\x1a\n", 8);
+  static const std::string trailer("\0\0\0\0IEND\xae\x42\x60\x82", 12);
+  return bytes.size() >= signature.size() + trailer.size() && bytes.compare(0, signature.size(), signature) == 0 &&
+         bytes.compare(bytes.size() - trailer.size(), trailer.size(), trailer) == 0;
+}
+} // namespace
+
+PlotResult draw_png(const std::string &folder, const std::string &script, const std::string &png)
+{
+  const std::string temporary = png + ".writing-" + std::to_string(::getpid());
+  const std::string folder_slash = folder.empty() ? std::string() : folder + "/";
+  std::remove((folder_slash + png).c_str());
+  // png_file is our own name (the PNG's fixed name and a number): quoted all the same.
+  const int status = base::run_program({"gnuplot", "-e", "png_file = " + gnuplot_string(temporary), script},
+                                       folder.empty() ? std::string(".") : folder);
+  PlotResult result;
+  if (status < 0)
+    result.problem = "gnuplot is not installed";
+  else if (status != 0)
+    result.problem = "gnuplot failed (exit status " + std::to_string(status) + ")";
+  else if (!is_complete_png(folder_slash + temporary))
+    result.problem = "gnuplot's " + png + " is incomplete (is the disk full?)";
+  else if (std::rename((folder_slash + temporary).c_str(), (folder_slash + png).c_str()) != 0)
+    result.problem = "could not rename " + temporary + " to " + png;
+  else
+    result.drawn = true;
+  if (!result.drawn) std::remove((folder_slash + temporary).c_str());
+  return result;
+}
+} // namespace flextrack::io

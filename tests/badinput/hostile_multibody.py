@@ -1,0 +1,153 @@
+#!/usr/bin/python3
+"""Hostile input, round two (issue 23): the multibody commands (run, bench). Each case is one
+scene of the new corpus, run as hostile_scenes.py runs its cases (same checks: a refused input
+exits 2 within 5 s with one printable line naming the file and the entry and leaves nothing in
+the output folder; an accepted one exits 0 with its files).
+
+- item 1: `bench` on a scene file whose name ends gnuplot's string and calls system(), or holds a
+  newline and '!' (both ran `touch PWNED` with exit 0 before);
+- item 3: bench with 'Relative tolerance = 0' (errors of exactly 0 before) or a probe on the ground
+  (every error 0, a "fastest run within 1e-6");
+- items 5-7: laws of time that are not finite, have a pole or overflow (log(t), sqrt(-1),
+  1/(t-0.5), exp(1000 t), 1e308 t^2; internal errors, hangs or SUNDIALS failures before), a
+  spring whose points coincide (internal error), tolerances and steps at 1e-300 (stuck at t = 0).
+
+usage: hostile_multibody.py FLEXTRACK WORK_DIR CASE
+"""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import hostile_scenes  # noqa: E402  (the runner and its checks)
+
+# A compound pendulum on a revolute joint, 1 s (prm/pendulum.prm at the default tolerances).
+PENDULUM = """set Model = multibody
+subsection Multibody
+  set Bodies  = bob
+  set Joints  = pivot
+  set Forces  = {forces}
+  set Probes  = {probes}
+  set Gravity = 0, -9.81, 0
+  set End time        = 1
+  set Output interval = 0.01
+  subsection Integrator
+{integrator}
+  end
+end
+subsection Body bob
+  set Kind    = rigid
+  set Mass    = 1.5
+  set Inertia = 0.02, 0.02, 0.02, 0, 0, 0
+  set Position        = 0.4, 0.69282032302755, 0
+  set Rotation vector = 0, 0, 2.6179938779914944
+end
+subsection Joint pivot
+  set Kind     = revolute
+  set Body 1   = bob
+  set Body 2   = ground
+  set Position = 0, 0, 0
+  set Axis     = 0, 0, 1
+  set Driver   = {driver}
+end
+{probe_sections}
+{extra}
+"""
+PROBES = {"bob_centre": "bob\n  set Position = 0.4, 0.69282032302755, 0",  # on the bob
+          "pin": "ground\n  set Position = 0, 0, 0"}  # on the ground: it never moves
+
+
+def pendulum(driver="", forces="", probes="bob_centre", integrator="", extra=""):
+    sections = "".join(f"subsection Probe {p}\n  set Body = {PROBES[p]}\nend\n" for p in probes.split(", "))
+    return PENDULUM.format(driver=driver, forces=forces, probes=probes, integrator=integrator, extra=extra,
+                           probe_sections=sections)
+
+
+def load(force="0; 0; 0", torque="0; 0; 0"):
+    return pendulum(forces="push", extra=f"""subsection Force push
+  set Kind   = applied load
+  set Body 1 = bob
+  set Position 1 = 0.4, 0.69282032302755, 0
+  set Force  = {force}
+  set Torque = {torque}
+end""")
+
+
+SPRING_AT_ONE_POINT = pendulum(forces="spring", extra="""subsection Force spring
+  set Kind   = spring damper
+  set Body 1 = bob
+  set Body 2 = ground
+  set Position 1 = 0.4, 0.69282032302755, 0
+  set Position 2 = 0.4, 0.69282032302755, 0
+  set Stiffness = 100
+end""")
+
+QUOTE_NAME = "x'; system 'touch PWNED'; y='.prm"
+NEWLINE_NAME = "x\n!touch PWNED\ny.prm"
+
+CASES = {
+    # Item 1: the scene file's name reached bench.gp unquoted.
+    "bench_scene_name_ends_gnuplot_string": dict(
+        files={QUOTE_NAME: pendulum()}, args=["bench", QUOTE_NAME], status=0, absent=["PWNED"],
+        outputs=["bench.csv", "bench.gp", "bench.png", "summary.json"]),
+    "bench_scene_name_with_newline_and_bang": dict(
+        files={NEWLINE_NAME: pendulum()}, args=["bench", NEWLINE_NAME], status=0, absent=["PWNED"],
+        outputs=["bench.csv", "bench.gp", "bench.png", "summary.json"]),
+    # Item 3
+    "bench_relative_tolerance_zero": dict(
+        files={"s.prm": pendulum(integrator="    set Relative tolerance = 0")}, args=["bench", "s.prm"],
+        regex=r"Relative tolerance.*must be from 1e-14"),
+    "bench_only_probe_on_the_ground": dict(
+        files={"s.prm": pendulum(probes="pin")}, args=["bench", "s.prm"],
+        regex=r"Multibody/Probes.*no probe moves more than 1e-9 m in the reference run \(pin\)"),
+    # Items 5-7: laws of time checked before the run, with their entry.
+    "driver_log_t": dict(files={"s.prm": pendulum(driver="log(t)")}, args=["run", "s.prm"],
+                         regex=r"Joint pivot/Driver.*'log\(t\)' is not finite at t = 0 s"),
+    "driver_sqrt_of_minus_1": dict(files={"s.prm": pendulum(driver="sqrt(-1)")}, args=["run", "s.prm"],
+                                   regex=r"Joint pivot/Driver.*is not finite at t = 0 s \(value -?nan\)"),
+    "driver_pole_on_the_grid": dict(files={"s.prm": pendulum(driver="1/(t-0.5)")}, args=["run", "s.prm"],
+                                    regex=r"Joint pivot/Driver.*(not finite|pole) at t = 0.5 s"),
+    "driver_pole_between_grid_points": dict(
+        files={"s.prm": pendulum(driver="1/(t-0.50001234)")}, args=["run", "s.prm"],
+        regex=r"Joint pivot/Driver.*has a pole (near|at) t = 0.5000"),
+    "driver_exp_1000_t": dict(files={"s.prm": pendulum(driver="exp(1000*t)")}, args=["run", "s.prm"],
+                              regex=r"Joint pivot/Driver.*'exp\(1000\*t\)' (is not finite|reaches)"),
+    "driver_1e308_t_squared": dict(files={"s.prm": pendulum(driver="1e308*t*t")}, args=["run", "s.prm"],
+                                   regex=r"Joint pivot/Driver.*(is not finite|reaches)"),
+    "force_1e308": dict(files={"s.prm": load(force="1e308; 1e308; 0")}, args=["run", "s.prm"],
+                        regex=r"Force push/Force.*'1e308' reaches value 1e\+308 at t = 0 s"),
+    "torque_nan_before_1_s": dict(files={"s.prm": load(torque="0; 0; sqrt(t-1)")}, args=["run", "s.prm"],
+                                  regex=r"Force push/Torque.*'sqrt\(t-1\)' is not finite at t = 0 s"),
+    "spring_with_coincident_points": dict(files={"s.prm": SPRING_AT_ONE_POINT}, args=["run", "s.prm"],
+                                          regex=r"Force spring/Position 2.*is 0.* m from Position 1"),
+    "absolute_tolerance_1e-300": dict(
+        files={"s.prm": pendulum(integrator="    set Absolute tolerance = 1e-300")}, args=["run", "s.prm"],
+        regex=r"Absolute tolerance.*must be >= 1e-15"),
+    "generalized_alpha_adaptive_step_1e-300": dict(
+        files={"s.prm": pendulum(integrator="    set Method = generalized_alpha\n    set Adaptive step = true\n"
+                                            "    set Step = 1e-300")}, args=["run", "s.prm"],
+        regex=r"Integrator/Step.*must be from 1e-10 s \(1e-10 of the run\)"),
+    # Item 8: a run left the previous run's deviation and animation files beside its own results.
+    "rerun_removes_previous_runs_files": dict(
+        files={"a.prm": pendulum(extra="subsection Output\n  set Animation interval = 0.1\nend").replace(
+                   "set Gravity", "set Rigid reference = true\n  set Gravity"),
+               "s.prm": pendulum()},
+        before=["run", "a.prm", "-o", "out"], args=["run", "s.prm", "-o", "out"], status=0,
+        outputs=["probes.csv", "summary.json"], stale=["deviation", "animation"]),
+    "linearize_writes_to_its_folder": dict(
+        files={"s.prm": pendulum()}, args=["linearize", "s.prm", "-o", "out"], status=0,
+        outputs=["linear_modes.csv", "summary.json"]),
+    "body_listed_without_subsection": dict(
+        files={"s.prm": pendulum().replace("set Bodies  = bob", "set Bodies  = bob, ghost")}, args=["run", "s.prm"],
+        regex=r"Multibody/Bodies.*Body 'ghost' is listed but has no 'subsection Body ghost'"),
+    "reference_axis_parallel_to_axis": dict(
+        files={"s.prm": pendulum().replace("set Axis     = 0, 0, 1", "set Axis     = 0, 0, 1\n  set Reference axis = 0, 0, 2")},
+        args=["run", "s.prm"], regex=r"Joint pivot/Reference axis.*is parallel to Axis"),
+    "empty_scene_file": dict(files={"s.prm": "# nothing but a comment\n\n"}, args=["run", "s.prm"],
+                             regex=r"holds no entries", entry=""),
+    # Not refused: a smooth driver that is large but bounded runs.
+    "driver_smooth_runs": dict(files={"s.prm": pendulum(driver="0.5*sin(2*pi*t)")}, args=["run", "s.prm"],
+                               status=0, outputs=["probes.csv", "summary.json"]),
+}
+
+if __name__ == "__main__":
+    sys.exit(hostile_scenes.main(CASES))
