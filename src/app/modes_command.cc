@@ -3,13 +3,13 @@
 // (geometry, fem), solve the eigenproblem (reduction), write results (io). Nothing is written
 // until every computation has succeeded, so a failed run leaves no half-written results behind.
 #include <app/commands.h>
-#include <io/gnuplot.h>
 #include <base/input_error.h>
 #include <fem/curved_beam_model.h>
 #include <fem/load_case.h>
 #include <fem/solid_model.h>
 #include <io/arm_scene.h>
 #include <io/body_scene.h>
+#include <io/gnuplot.h>
 #include <io/mode_shape_writer.h>
 #include <io/output_folder.h>
 #include <reduction/modal_participation.h>

@@ -291,6 +291,10 @@ void declare_multibody_scene(ParameterHandler &prm, const SceneNames &names)
   prm.declare_entry("Animation interval", "0", Patterns::Double(0),
                     "Time between the frames of the VTU/PVD animation (animation.pvd, one animation_NNNNN.vtu "
                     "per frame, taken at the output rows) [s]; 0: no animation.");
+  prm.declare_entry("Maximum results size", "2", Patterns::Double(0),
+                    "Largest estimated size of a run's results (results.h5, kept in memory until the end, and the "
+                    "CSV files) [GiB], 0.001 to 1000; a scene whose output rows need more is refused before the "
+                    "run. Raise it for a long run on purpose, or choose a longer Multibody/Output interval.");
   prm.leave_subsection();
 }
 
@@ -319,6 +323,9 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
       prm.enter_subsection("Output");
       scene.output_directory = base::trim(prm.get("Directory"));
       scene.animation_interval = prm.get_double("Animation interval");
+      scene.max_results_gib = prm.get_double("Maximum results size");
+      if (!(scene.max_results_gib >= 1e-3 && scene.max_results_gib <= 1e3))
+        throw InputError("Output/Maximum results size", "must be from 0.001 to 1000 GiB");
       prm.leave_subsection();
       if (scene.animation_interval > 0 &&
           (scene.settings.end_time - scene.settings.start_time) / scene.animation_interval > 1e5)

@@ -37,6 +37,7 @@ struct MultibodyScene
   std::vector<std::string> body_descriptions;
   std::string output_directory; ///< Output/Directory (empty: the default rule of OutputFolder)
   double animation_interval = 0; ///< Output/Animation interval [s]; 0: no animation
+  double max_results_gib = 2;     ///< Output/Maximum results size [GiB]
   /// The parameters as read (parameters_used.prm, summary.json).
   std::shared_ptr<dealii::ParameterHandler> parameters;
 };

@@ -67,6 +67,13 @@ RunRecorder::RunRecorder(const multibody::System &s, const std::vector<std::uniq
   monitor_csv = std::make_unique<IncrementalCsv>(folder, "monitors.csv", columns);
 }
 
+double RunRecorder::bytes_per_row(const multibody::System &system, const std::size_t n_probes)
+{
+  const double kept = 1 + system.size() + 6.0 * system.n_joints() + monitor_names.size() + 6.0 * n_probes;
+  const double text = 2 + monitor_names.size() + 6.0 * n_probes;
+  return 8 * kept + 20 * text;
+}
+
 void RunRecorder::record(const double t, const Vector<double> &y, const multibody::MonitorValues &m, const double balance_error)
 {
   time.push_back(t);

@@ -41,6 +41,9 @@ public:
   /// Records one output row (also into probes.csv and monitors.csv).
   void record(double t, const dealii::Vector<double> &y, const multibody::MonitorValues &monitors,
               double balance_error);
+  /// Bytes one output row costs: the numbers kept for results.h5 (8 bytes each) and the text of
+  /// probes.csv and monitors.csv (about 20 characters a number).
+  static double bytes_per_row(const multibody::System &system, std::size_t n_probes);
   /// Writes results.h5 with the rows recorded so far.
   void write_hdf5(OutputFolder &folder) const;
   unsigned int n_rows() const { return time.size(); }

@@ -233,7 +233,14 @@ SceneFile SceneFile::read(const std::string &file)
 }
 bool SceneFile::has_subsection(const std::string &subsection) const
 {
-  if (json) return text.find("\"" + subsection + "\"") != std::string::npos;
+  if (json)
+    {
+      // JSON written by deal.II's ParameterHandler has its keys mangled: '_' becomes "_5f" (the
+      // only character of a name, base/names.h, that it mangles). Either spelling counts.
+      std::string mangled;
+      for (const char c : subsection) mangled += c == '_' ? std::string("_5f") : std::string(1, c);
+      return text.find("\"" + subsection + "\"") != std::string::npos || text.find("\"" + mangled + "\"") != std::string::npos;
+    }
   std::istringstream lines(text);
   std::string line;
   while (std::getline(lines, line))
