@@ -1,4 +1,5 @@
 // SUNDIALS IDA on the system's DAE, with our Jacobian and KLU solver (ida_integrator.h).
+#include <base/text.h>
 #include <multibody/ida_integrator.h>
 
 #include <ida/ida.h>
@@ -222,6 +223,7 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
   double next_output = next_output_time(t_now, output_interval, t_end);
   State y, yp;
   long steps_taken = 0;
+  const double t_call = t_now;
   while (t_now < t_end)
     {
       const double t_begin = t_now;
@@ -236,6 +238,20 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
           fail(IDA_TOO_MUCH_WORK);
         }
       t_now = t_reached;
+      // Progress guard: a run that at its pace so far needs more than 'Maximum steps' stops now,
+      // not after minutes of steps that cannot reach the end anyway (checked from 10 000 steps on,
+      // so the small steps of a start or a restart do not count against it).
+      if (steps_taken % 10000 == 0 && t_now > t_call)
+        {
+          const double projected = steps_taken * (t_end - t_call) / (t_now - t_call);
+          if (projected > settings.max_steps)
+            {
+              last_message = "at its pace so far (" + std::to_string(steps_taken) + " steps to t = " +
+                             base::number_text(t_now) + " s) the run needs about " + base::number_text(projected) +
+                             " steps, more than 'Maximum steps' = " + std::to_string(settings.max_steps);
+              fail(IDA_TOO_MUCH_WORK);
+            }
+        }
       int order = 0;
       IDAGetLastOrder(sun->ida, &order);
       if (order >= 1 && order <= 5) ++histogram[order];
