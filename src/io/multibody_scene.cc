@@ -315,7 +315,12 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
       scene.parameters = std::make_shared<ParameterHandler>();
       auto &prm = *scene.parameters;
       declare_multibody_scene(prm, scene.names);
-      file.parse(prm, false);
+      std::vector<std::string> subsections;
+      for (const auto &b : scene.names.bodies) subsections.push_back("Body " + b);
+      for (const auto &j : scene.names.joints) subsections.push_back("Joint " + j);
+      for (const auto &f : scene.names.forces) subsections.push_back("Force " + f);
+      for (const auto &p : scene.names.probes) subsections.push_back("Probe " + p);
+      file.with_mangled_json_keys(subsections).parse(prm, false);
       prm.enter_subsection("Multibody");
       check_magnitudes(prm, "Multibody", "Multibody/");
       prm.leave_subsection();

@@ -231,15 +231,39 @@ SceneFile SceneFile::read(const std::string &file)
       throw e.file().empty() || e.file() == "<string>" ? e.in_file(file) : e;
     }
 }
+namespace
+{
+/// @p name as deal.II mangles it in JSON keys ('_' -> "_5f"; names hold no other character it mangles).
+std::string mangled_key(const std::string &name)
+{
+  std::string mangled;
+  for (const char c : name) mangled += c == '_' ? std::string("_5f") : std::string(1, c);
+  return mangled;
+}
+} // namespace
+
+SceneFile SceneFile::with_mangled_json_keys(const std::vector<std::string> &subsections) const
+{
+  SceneFile scene = *this;
+  if (!json) return scene;
+  for (const auto &key : subsections)
+    {
+      const std::string raw = "\"" + key + "\"", mangled = "\"" + mangled_key(key) + "\"";
+      if (raw == mangled) continue;
+      for (std::size_t at = scene.text.find(raw); at != std::string::npos; at = scene.text.find(raw, at + mangled.size()))
+        scene.text.replace(at, raw.size(), mangled);
+    }
+  return scene;
+}
+
 bool SceneFile::has_subsection(const std::string &subsection) const
 {
   if (json)
     {
       // JSON written by deal.II's ParameterHandler has its keys mangled: '_' becomes "_5f" (the
       // only character of a name, base/names.h, that it mangles). Either spelling counts.
-      std::string mangled;
-      for (const char c : subsection) mangled += c == '_' ? std::string("_5f") : std::string(1, c);
-      return text.find("\"" + subsection + "\"") != std::string::npos || text.find("\"" + mangled + "\"") != std::string::npos;
+      return text.find("\"" + subsection + "\"") != std::string::npos ||
+             text.find("\"" + mangled_key(subsection) + "\"") != std::string::npos;
     }
   std::istringstream lines(text);
   std::string line;

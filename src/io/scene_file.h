@@ -43,6 +43,12 @@ struct SceneFile
   /// (JSON): a listed instance without its subsection would get every default silently.
   bool has_subsection(const std::string &subsection) const;
 
+  /// A JSON scene with the keys @p subsections written as deal.II's ParameterHandler expects them
+  /// (mangled: '_' as "_5f"). deal.II writes its JSON so, but a user writes "Body my_bob", which
+  /// deal.II took for an undeclared subsection ("You can't ask for entry <Kind> you have not yet
+  /// declared"). Only the keys named are touched; a .prm scene is returned unchanged.
+  SceneFile with_mangled_json_keys(const std::vector<std::string> &subsections) const;
+
   /// Parses the text into @p prm; deal.II's errors become InputError naming this file.
   void parse(dealii::ParameterHandler &prm, bool skip_undefined) const;
 };

@@ -81,6 +81,18 @@ SPRING_AT_ONE_POINT = pendulum(forces="spring", extra="""subsection Force spring
   set Stiffness = 100
 end""")
 
+JSON_PLAIN_KEYS = """{
+  "Model": "multibody",
+  "Multibody": {"Bodies": "my_bob", "Joints": "the_pivot", "Probes": "bob_centre", "Gravity": "0, -9.81, 0",
+                "End time": "0.5", "Output interval": "0.01"},
+  "Body my_bob": {"Kind": "rigid", "Mass": "1.5", "Inertia": "0.02, 0.02, 0.02, 0, 0, 0",
+                  "Position": "0.4, 0.69282032302755, 0", "Rotation vector": "0, 0, 2.6179938779914944"},
+  "Joint the_pivot": {"Kind": "revolute", "Body 1": "my_bob", "Body 2": "ground", "Position": "0, 0, 0",
+                      "Axis": "0, 0, 1"},
+  "Probe bob_centre": {"Body": "my_bob", "Position": "0.4, 0.69282032302755, 0"}
+}
+"""
+
 QUOTE_NAME = "x'; system 'touch PWNED'; y='.prm"
 NEWLINE_NAME = "x\n!touch PWNED\ny.prm"
 
@@ -153,6 +165,10 @@ CASES = {
         files={"s.prm": pendulum().replace("set Rotation vector = 0, 0, 2.6179938779914944",
                                            "set Rotation vector = 0, 0, 2.6179938779914944\n  set Angular velocity = 0, 0, 1e6")},
         args=["run", "s.prm"], regex=r"Body bob/Angular velocity"),
+    # Item 10: a JSON scene with its keys as a user writes them ("Body my_bob", where deal.II writes
+    # "Body my_5fbob") ended with "You can't ask for entry <Kind> you have not yet declared".
+    "json_scene_with_plain_keys_runs": dict(
+        files={"s.json": JSON_PLAIN_KEYS}, args=["run", "s.json"], status=0, outputs=["probes.csv", "summary.json"]),
     # Not refused: a smooth driver that is large but bounded runs.
     "driver_smooth_runs": dict(files={"s.prm": pendulum(driver="0.5*sin(2*pi*t)")}, args=["run", "s.prm"],
                                status=0, outputs=["probes.csv", "summary.json"]),
