@@ -169,6 +169,12 @@ CASES = {
     # "Body my_5fbob") ended with "You can't ask for entry <Kind> you have not yet declared".
     "json_scene_with_plain_keys_runs": dict(
         files={"s.json": JSON_PLAIN_KEYS}, args=["run", "s.json"], status=0, outputs=["probes.csv", "summary.json"]),
+    # Item 9: a full disk while writing mode shapes ended as deal.II's internal error (exit 4). A file
+    # size limit of 4000 bytes lets the small files through and stops the first mode shape.
+    "modes_write_error_in_mode_shapes": dict(
+        files={"s.prm": hostile_scenes.arm(modes="20", elements="40")}, args=["modes", "s.prm", "-o", "out"],
+        fsize_limit=4000, regex=r"cannot write 'out/mode_shapes_001.vtu': (File too large|No space)",
+        entry="Output/Directory", names_file=False),
     # Not refused: a smooth driver that is large but bounded runs.
     "driver_smooth_runs": dict(files={"s.prm": pendulum(driver="0.5*sin(2*pi*t)")}, args=["run", "s.prm"],
                                status=0, outputs=["probes.csv", "summary.json"]),

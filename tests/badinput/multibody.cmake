@@ -9,7 +9,8 @@ set(FLEXTRACK_HOSTILE_MULTIBODY_CASES
   spring_with_coincident_points absolute_tolerance_1e-300 generalized_alpha_adaptive_step_1e-300 driver_smooth_runs
   rerun_removes_previous_runs_files linearize_writes_to_its_folder body_listed_without_subsection
   reference_axis_parallel_to_axis empty_scene_file ten_million_output_rows
-  angular_velocity_1e6 json_scene_with_plain_keys_runs)
+  angular_velocity_1e6 json_scene_with_plain_keys_runs
+  modes_write_error_in_mode_shapes)
 foreach(case ${FLEXTRACK_HOSTILE_MULTIBODY_CASES})
   add_test(NAME badinput_multibody_${case}
     COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/badinput/hostile_multibody.py $<TARGET_FILE:flextrack>
