@@ -17,6 +17,7 @@ struct Options
   std::string output_directory; ///< from -o; empty = from the file, else output/<stem>
   unsigned int refinements = 3; ///< converge: number of refinements K
   std::string format;           ///< export: a name of io::export_formats()
+  std::string mbdyn_clamp;      ///< export: --mbdyn-clamp (auto, yes, no); empty = not given
 };
 
 /// Time simulation of a multibody scene (Model = multibody): probes.csv, monitors.csv,

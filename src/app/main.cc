@@ -47,10 +47,12 @@ Usage:
   flextrack static FILE.prm [-o DIR] linear static solution of an arm or solid under the scene's
                                      load cases: displacements, reactions, strain energy
   flextrack inspect BODY.h5          print what a reduced body file holds
-  flextrack export --format FORMAT BODY.h5 [-o DIR]
+  flextrack export --format FORMAT BODY.h5 [-o DIR] [--mbdyn-clamp auto|yes|no]
                                      the reduced body for other tools: 'mbdyn' (BODY.fem modal
                                      element data + BODY.elm joint statement), 'vtu' (mode
-                                     shapes, BODY_modes.vtu, for ParaView / meshio)
+                                     shapes, BODY_modes.vtu, for ParaView / meshio);
+                                     --mbdyn-clamp: clamp the modal node (auto: if the body has
+                                     supports; no: for a body on a joint, doc/exports.md)
   flextrack print-parameters         every parameter: default, allowed values, unit, meaning
   flextrack --help | --version
 
@@ -175,6 +177,11 @@ std::string parse_options(const std::string &command, const std::vector<std::str
         {
           if (++i == args.size()) return "--format needs a format name: " + flextrack::io::export_format_list();
           options.format = args[i];
+        }
+      else if (args[i] == "--mbdyn-clamp" && command == "export")
+        {
+          if (++i == args.size()) return "--mbdyn-clamp needs a value: auto, yes or no";
+          options.mbdyn_clamp = args[i]; // checked by export_command (bad input, exit 2)
         }
       else if (!args[i].empty() && args[i][0] == '-')
         return "unknown option '" + flextrack::base::printable_excerpt(args[i]) + "' for " + command;

@@ -66,6 +66,58 @@ void drop_round_off(dealii::FullMatrix<double> &S)
     for (unsigned int j = 0; j < i; ++j)
       if (std::abs(S(i, j)) <= mbdyn_round_off_threshold * std::sqrt(std::abs(S(i, i) * S(j, j)))) S(i, j) = S(j, i) = 0;
 }
+
+/// The end of the .elm: how the modal node is held (a clamp, or a comment saying how to hold it),
+/// for a body with @p support exported with @p choice; @p first labels the first interface.
+std::string holding_text(const MbdynSupport support, const MbdynClamp choice, const std::string &first)
+{
+  std::ostringstream out;
+  const std::string clamp = "joint: flextrack_clamp_joint, clamp, flextrack_modal_node, node, node;";
+  const std::string clamp_label = "set: ifndef integer flextrack_clamp_joint = 1001;";
+  if (choice == MbdynClamp::no && support == MbdynSupport::supported)
+    {
+      out << "# The body has supports, fixed in the body frame (its modes are those of the supported body).\n"
+          << "# Exported with '--mbdyn-clamp no': the modal node is not clamped here, so the including model\n"
+          << "# must hold it by its own joint at the supports (e.g. a revolute pin at a point of a supported\n"
+          << "# face, offset from the modal node in the body frame); count 1 joint for this file in the\n"
+          << "# control data.\n";
+      return out.str();
+    }
+  if (choice == MbdynClamp::yes && support != MbdynSupport::supported)
+    {
+      out << "# Clamped as asked ('--mbdyn-clamp yes'; the data show no supports): the modal node is held\n"
+          << "# where it stands; count 2 joints for this file in the control data.\n"
+          << clamp_label << "\n" << clamp << "\n";
+      return out.str();
+    }
+  switch (support)
+    {
+      case MbdynSupport::supported:
+        out << "# The body has supports, fixed in the body frame (its modes are those of the supported body),\n"
+            << "# so the modal node must be held: clamped where it stands; count 2 joints for this file in the\n"
+            << "# control data. For supports on a moving part, replace the clamp by a joint to that part\n"
+            << "# (or export with '--mbdyn-clamp no').\n"
+            << clamp_label << "\n"
+            << clamp << "\n";
+        break;
+      case MbdynSupport::free_at_first_interface:
+        out << "# A free body: every mode is 0 at its first interface '" << first << "' (its body frame), so\n"
+            << "# the modal node moves freely; count 1 joint for this file in the control data. Only if the\n"
+            << "# body's scene has supports (all at '" << first << "'), hold the modal node, e.g.\n"
+            << "# " << clamp_label << "\n# " << clamp << "\n";
+        break;
+      case MbdynSupport::free_mean_axes:
+        out << "# A free body (mean axes: I3 = I4 = 0), so the modal node moves freely; count 1 joint for\n"
+            << "# this file in the control data.\n";
+        break;
+      case MbdynSupport::no_modes:
+        out << "# No modes: a rigid body. Count 1 joint for this file in the control data; if the body's\n"
+            << "# scene has supports, hold the modal node, e.g.\n"
+            << "# " << clamp_label << "\n# " << clamp << "\n";
+        break;
+    }
+  return out.str();
+}
 } // namespace
 
 MbdynMatrices mbdyn_matrices(const reduction::ReducedBody &body)
@@ -218,7 +270,24 @@ std::string mbdyn_fem_text(const reduction::ReducedBody &body)
   return out.str();
 }
 
-std::string mbdyn_elm_text(const reduction::ReducedBody &body, const std::string &fem_file_name)
+std::string mbdyn_clamp_names() { return "auto, yes, no"; }
+
+MbdynClamp mbdyn_clamp_from_name(const std::string &name, const std::string &entry)
+{
+  if (name == "auto") return MbdynClamp::automatic;
+  if (name == "yes") return MbdynClamp::yes;
+  if (name == "no") return MbdynClamp::no;
+  throw InputError(entry, "unknown value '" + base::printable_excerpt(name) + "' for the clamp of the MBDyn modal node; allowed: " +
+                            mbdyn_clamp_names());
+}
+
+std::vector<std::pair<std::string, std::string>> mbdyn_export_files(const reduction::ReducedBody &body,
+                                                                    const std::string &stem, const MbdynClamp clamp)
+{
+  return {{stem + ".fem", mbdyn_fem_text(body)}, {stem + ".elm", mbdyn_elm_text(body, stem + ".fem", clamp)}};
+}
+
+std::string mbdyn_elm_text(const reduction::ReducedBody &body, const std::string &fem_file_name, const MbdynClamp clamp_choice)
 {
   if (fem_file_name.empty() || fem_file_name.find_first_of("\"\\") != std::string::npos ||
       base::printable_excerpt(fem_file_name, fem_file_name.size()) != fem_file_name)
@@ -258,32 +327,7 @@ std::string mbdyn_elm_text(const reduction::ReducedBody &body, const std::string
       const std::string label = mbdyn_node_label(body.interfaces[i].name);
       out << "\t\t\"" << label << "\", flextrack_node_" << label << ", null" << (i + 1 == N ? ";" : ",") << "\n";
     }
-  const std::string clamp = "joint: flextrack_clamp_joint, clamp, flextrack_modal_node, node, node;";
-  switch (support)
-    {
-      case MbdynSupport::supported:
-        out << "# The body has supports, fixed in the body frame (its modes are those of the supported body),\n"
-            << "# so the modal node must be held: clamped where it stands; count 2 joints for this file in the\n"
-            << "# control data. For supports on a moving part, replace the clamp by a joint to that part.\n"
-            << "set: ifndef integer flextrack_clamp_joint = 1001;\n"
-            << clamp << "\n";
-        break;
-      case MbdynSupport::free_at_first_interface:
-        out << "# A free body: every mode is 0 at its first interface '" << first << "' (its body frame), so\n"
-            << "# the modal node moves freely; count 1 joint for this file in the control data. Only if the\n"
-            << "# body's scene has supports (all at '" << first << "'), hold the modal node, e.g.\n"
-            << "# set: ifndef integer flextrack_clamp_joint = 1001;\n# " << clamp << "\n";
-        break;
-      case MbdynSupport::free_mean_axes:
-        out << "# A free body (mean axes: I3 = I4 = 0), so the modal node moves freely; count 1 joint for\n"
-            << "# this file in the control data.\n";
-        break;
-      case MbdynSupport::no_modes:
-        out << "# No modes: a rigid body. Count 1 joint for this file in the control data; if the body's\n"
-            << "# scene has supports, hold the modal node, e.g.\n"
-            << "# set: ifndef integer flextrack_clamp_joint = 1001;\n# " << clamp << "\n";
-        break;
-    }
+  out << holding_text(support, clamp_choice, first);
   return out.str();
 }
 } // namespace flextrack::io

@@ -18,12 +18,17 @@
 // The .elm statement follows the modal joint syntax of the MBDyn input manual (section "Modal",
 // joints), token by token: node, mode count, 'from file' (FEM node count from the .fem file),
 // 'damping from file' (record group 13), the file name, the interface count, the interfaces.
-// A body whose data show supports gets a clamp of its modal node (see MbdynSupport).
+// A body whose data show supports gets a clamp of its modal node (see MbdynSupport), unless
+// the export is asked otherwise (MbdynClamp: 'flextrack export --mbdyn-clamp no' for a body that
+// hangs on a joint of the including model; MBDyn's input has no conditional statements, so the
+// choice is made when the file is written, not by a 'set:' variable).
 #pragma once
 
 #include <reduction/reduced_body.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace flextrack::io
 {
@@ -34,7 +39,7 @@ inline constexpr double mbdyn_orthonormal_tolerance = 1e-9;
 /// In the scaled matrix D^-1/2 A D^-1/2 (D the diagonal) this drops terms of at most 1e-9: each
 /// eigenvalue (w^2) moves by at most about (n - 1) 1e-9 relative (the scaled matrix is near the
 /// identity), by O(1e-18) for modes that are not nearly repeated. Measured round-off in
-/// FlexTrack's bases (at most 3.8e-12): see doc/exports.md.
+/// FlexTrack's bases (at most 1.3e-11, prm/curved_boom_body.prm): see doc/exports.md.
 inline constexpr double mbdyn_round_off_threshold = 1e-9;
 
 /// The generalised mass, stiffness and damping as written to record groups 9, 10 and 13.
@@ -62,14 +67,32 @@ enum class MbdynSupport
 };
 MbdynSupport mbdyn_support(const reduction::ReducedBody &body);
 
+/// Whether the .elm clamps the modal node (flextrack export --mbdyn-clamp).
+enum class MbdynClamp
+{
+  automatic, ///< "auto", the default: clamped when the data show supports (MbdynSupport::supported)
+  yes,       ///< always clamped where it stands (a body held at its first interface, say)
+  no         ///< never: the including model holds the modal node by its own joint (a pendulum)
+};
+/// "auto, yes, no", for messages.
+std::string mbdyn_clamp_names();
+/// The setting called @p name; InputError naming @p entry and the allowed names if none is.
+MbdynClamp mbdyn_clamp_from_name(const std::string &name, const std::string &entry);
+
 /// The .fem text. Throws InputError if the body's inertia tensor about its centre of mass is not
 /// positive definite (MBDyn fails on its first step with such a body).
 std::string mbdyn_fem_text(const reduction::ReducedBody &body);
 
 /// The .elm text: a modal joint that reads @p fem_file_name, with one attachment per interface,
-/// and, for a supported body, a clamp of the modal node (otherwise a comment saying when to add
-/// one). Throws InputError if @p fem_file_name cannot be written inside an MBDyn string.
-std::string mbdyn_elm_text(const reduction::ReducedBody &body, const std::string &fem_file_name);
+/// and a clamp of the modal node as @p clamp says (automatic: for a supported body; otherwise a
+/// comment saying when to add one, or, with 'no' on a supported body, how to hold it). Throws
+/// InputError if @p fem_file_name cannot be written inside an MBDyn string.
+std::string mbdyn_elm_text(const reduction::ReducedBody &body, const std::string &fem_file_name,
+                           MbdynClamp clamp = MbdynClamp::automatic);
+
+/// (file name, text) of STEM.fem and STEM.elm, the .elm written with @p clamp.
+std::vector<std::pair<std::string, std::string>> mbdyn_export_files(const reduction::ReducedBody &body,
+                                                                    const std::string &stem, MbdynClamp clamp);
 
 /// Label of an interface in the .fem file: its name with blanks replaced by '_'.
 std::string mbdyn_node_label(const std::string &interface_name);

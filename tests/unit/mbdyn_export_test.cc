@@ -12,6 +12,10 @@
 // clamp joint (node, position, orientation); it rejects the statement that MBDyn rejected (no
 // 'from file' before 'damping from file'). Record groups 9, 10 and 13 are exactly symmetric and,
 // for a mass-orthonormal basis, diagonal.
+//
+// Issue 28: the clamp of the modal node as an option of the export (io::MbdynClamp: auto, yes,
+// no); the .elm of each choice passes the strict parser with the clamp written or left out, and
+// states the joint count that goes with it.
 #include <fem/body_model.h>
 #include <io/body_scene.h>
 #include <base/input_error.h>
@@ -941,4 +945,80 @@ TEST(MbdynExport, symmetric_part_keeps_real_coupling_and_drops_round_off_only)
   EXPECT_NE(io::mbdyn_matrices(body).stiffness(1, 2), 0.0);
   body.stiffness(1, 2) = body.stiffness(2, 1) = 0.99 * io::mbdyn_round_off_threshold * std::sqrt(k[1] * k[2]);
   EXPECT_EQ(io::mbdyn_matrices(body).stiffness(1, 2), 0.0);
+}
+
+namespace
+{
+/// The number N of "count N joint(s) for this file" in an .elm comment, -1 if there is none.
+int stated_joint_count(const std::string &elm)
+{
+  std::smatch m;
+  if (!std::regex_search(elm, m, std::regex(R"(count ([0-9]+) joints? for this file)"))) return -1;
+  return std::stoi(m[1]);
+}
+
+/// The text up to the end of the modal joint statement (the first "null;" line).
+std::string up_to_the_modal_joint(const std::string &elm) { return elm.substr(0, elm.find(", null;\n") + 8); }
+} // namespace
+
+TEST(MbdynExport, clamp_option_writes_or_leaves_out_the_clamp_of_the_modal_node)
+{
+  // Issue 28: a body that hangs on a joint of the including model (the flexible pendulum) must
+  // not have its modal node clamped (MBDyn stops with ENOPIV in the revolute pin). 'flextrack
+  // export --mbdyn-clamp no' leaves the clamp out, 'yes' writes it for any body, 'auto' (the
+  // default) is the behaviour of issue 13: a clamp exactly when the data show supports. Only the
+  // end of the file changes; the joint count the comment states is that of the statements.
+  const auto supported = bracket_body(true), free = bracket_body(false);
+  ASSERT_EQ(io::mbdyn_support(supported), io::MbdynSupport::supported);
+  ASSERT_EQ(io::mbdyn_support(free), io::MbdynSupport::free_at_first_interface);
+  const std::map<std::pair<bool, io::MbdynClamp>, unsigned int> expected_clamps{
+    {{true, io::MbdynClamp::automatic}, 1}, {{true, io::MbdynClamp::yes}, 1}, {{true, io::MbdynClamp::no}, 0},
+    {{false, io::MbdynClamp::automatic}, 0}, {{false, io::MbdynClamp::yes}, 1}, {{false, io::MbdynClamp::no}, 0}};
+  for (const auto &[key, clamps] : expected_clamps)
+    {
+      const auto &body = key.first ? supported : free;
+      const std::string text = io::mbdyn_elm_text(body, "b.fem", key.second);
+      const std::string what = std::string(key.first ? "supported" : "free") + " body, clamp " +
+                               std::to_string(static_cast<int>(key.second));
+      const ElmFile elm = read_elm_strictly(text);
+      ASSERT_EQ(elm.modal.size(), 1u) << what;
+      ASSERT_EQ(elm.clamps.size(), clamps) << what << ":\n" << text;
+      if (clamps)
+        {
+          EXPECT_EQ(elm.clamps[0].node, elm.modal[0].node) << what;
+          EXPECT_NE(elm.clamps[0].label, elm.modal[0].label) << what;
+        }
+      else
+        EXPECT_EQ(text.find("\njoint: flextrack_clamp_joint"), std::string::npos) << what;
+      EXPECT_EQ(stated_joint_count(text), static_cast<int>(elm.modal.size() + elm.clamps.size())) << what << ":\n" << text;
+      EXPECT_EQ(up_to_the_modal_joint(text), up_to_the_modal_joint(io::mbdyn_elm_text(body, "b.fem"))) << what;
+      if (key.second == io::MbdynClamp::automatic) EXPECT_EQ(text, io::mbdyn_elm_text(body, "b.fem")) << "the default";
+    }
+  EXPECT_NE(io::mbdyn_elm_text(supported, "b.fem", io::MbdynClamp::no).find("--mbdyn-clamp no"), std::string::npos)
+    << "the file says why a supported body has no clamp";
+  // The files of 'flextrack export': STEM.fem and STEM.elm, the .elm reading STEM.fem.
+  const auto files = io::mbdyn_export_files(supported, "pendulum", io::MbdynClamp::no);
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(files[0].first, "pendulum.fem");
+  EXPECT_EQ(files[0].second, io::mbdyn_fem_text(supported));
+  EXPECT_EQ(files[1].first, "pendulum.elm");
+  EXPECT_EQ(files[1].second, io::mbdyn_elm_text(supported, "pendulum.fem", io::MbdynClamp::no));
+}
+
+TEST(MbdynExport, clamp_option_names_its_allowed_values)
+{
+  EXPECT_EQ(io::mbdyn_clamp_from_name("auto", "--mbdyn-clamp"), io::MbdynClamp::automatic);
+  EXPECT_EQ(io::mbdyn_clamp_from_name("yes", "--mbdyn-clamp"), io::MbdynClamp::yes);
+  EXPECT_EQ(io::mbdyn_clamp_from_name("no", "--mbdyn-clamp"), io::MbdynClamp::no);
+  for (const std::string bad : {"maybe", "YES", "", "no ", "1"})
+    try
+      {
+        io::mbdyn_clamp_from_name(bad, "--mbdyn-clamp");
+        ADD_FAILURE() << "'" << bad << "' accepted";
+      }
+    catch (const InputError &e)
+      {
+        EXPECT_EQ(e.entry(), "--mbdyn-clamp");
+        EXPECT_NE(std::string(e.what()).find("allowed: auto, yes, no"), std::string::npos) << e.what();
+      }
 }
