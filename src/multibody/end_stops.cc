@@ -41,9 +41,16 @@ std::string integrate_with_limits(System &system, TimeIntegrator &integrator, co
                                   const TimeIntegrator::Observer &output)
 {
   const unsigned int n_limits = system.n_limits();
-  if (n_limits)
-    integrator.set_root_functions(n_limits, [&system](const double t, const Vector<double> &state, const Vector<double> &,
-                                                      double *g) { system.limit_values(t, state, g); });
+  // One more root function while equations are dropped as redundant: positive while they still
+  // hold (System::dropped_equation_margin), so the run stops where they stop depending on the others.
+  const bool watch_dropped = !system.dropped_equations().empty();
+  if (n_limits + watch_dropped)
+    integrator.set_root_functions(n_limits + watch_dropped,
+                                  [&system, n_limits, watch_dropped](const double t, const Vector<double> &state,
+                                                                     const Vector<double> &, double *g) {
+                                    system.limit_values(t, state, g);
+                                    if (watch_dropped) g[n_limits] = system.dropped_equation_margin(t, state);
+                                  });
   for (unsigned long events = 0;; ++events)
     {
       integrator.integrate(t_end, output_interval, output);
@@ -53,7 +60,13 @@ std::string integrate_with_limits(System &system, TimeIntegrator &integrator, co
       Vector<double> state, rate;
       integrator.interpolate(t, state, rate);
       bool jumped = false;
-      for (unsigned int i = 0; i < roots.size(); ++i)
+      if (watch_dropped && roots.size() > n_limits && roots[n_limits] != 0)
+        {
+          std::ostringstream m;
+          m << "at t = " << t << " s " << system.dropped_equation_report(t, state);
+          return m.str();
+        }
+      for (unsigned int i = 0; i < n_limits; ++i)
         {
           if (roots[i] == 0) continue;
           unsigned int v = 0;

@@ -17,7 +17,8 @@
 namespace flextrack::multibody
 {
 /// Integrates from the integrator's time to @p t_end, calling @p output at its output times (and
-/// at each event). Returns "" at @p t_end, else the report of the limit that ended the run.
+/// at each event). Returns "" at @p t_end, else the report of the limit that ended the run, or of
+/// the redundant equation dropped at the start that stopped holding (System::dropped_equation_margin).
 /// Throws SolverError if the integration fails.
 std::string integrate_with_limits(System &system, TimeIntegrator &integrator, double t_end, double output_interval,
                                   const TimeIntegrator::Observer &output);

@@ -1,6 +1,7 @@
 // Consistent initial conditions and redundant equations (initial_conditions.h).
 #include <base/input_error.h>
 #include <multibody/initial_conditions.h>
+#include <multibody/redundancy.h>
 
 #include <deal.II/lac/lapack_full_matrix.h>
 
@@ -125,28 +126,6 @@ unsigned int project_positions(const System &system, const double t0, Vector<dou
 }
 } // namespace
 
-std::vector<unsigned int> dependent_rows(const FullMatrix<double> &B, const double rank_tolerance)
-{
-  std::vector<Vector<double>> basis;
-  std::vector<unsigned int> dependent;
-  for (unsigned int r = 0; r < B.m(); ++r)
-    {
-      Vector<double> w(B.n());
-      for (unsigned int c = 0; c < B.n(); ++c) w[c] = B(r, c);
-      const double norm = w.l2_norm();
-      for (unsigned int pass = 0; pass < 2; ++pass)
-        for (const auto &q : basis) w.add(-(q * w), q);
-      if (norm == 0 || w.l2_norm() <= rank_tolerance * norm)
-        dependent.push_back(r);
-      else
-        {
-          w /= w.l2_norm();
-          basis.push_back(w);
-        }
-    }
-  return dependent;
-}
-
 void consistent_derivatives(System &system, const double t, Vector<double> &y, Vector<double> &yp)
 {
   const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda();
@@ -262,15 +241,16 @@ InitialConditionReport consistent_initial_conditions(System &system, const doubl
   system.move_positions(y, Vector<double>(system.n_v())); // normalises p
   report.iterations = project_positions(system, t0, y, settings);
 
-  // Redundant equations at the projected configuration
-  Vector<double> phi, phi_t;
-  FullMatrix<double> B;
-  system.constraints(t0, y, true, phi, B, phi_t);
-  const auto rows = system.constraint_rows(true);
-  std::vector<std::pair<unsigned int, unsigned int>> drop;
-  for (const unsigned int r : dependent_rows(B, settings.rank_tolerance)) drop.push_back(rows[r]);
-  system.drop_equations(drop);
+  // Redundant equations: dependent at the projected configuration and nearby (a singular start
+  // is refused there); the scales of the equations let the run watch the dropped ones.
+  RedundancySettings redundancy;
+  redundancy.rank_tolerance = settings.rank_tolerance;
+  const RedundancyAnalysis analysis = find_redundant_equations(system, t0, y, redundancy);
+  system.set_equation_scales(analysis.equation_scales);
+  system.drop_equations(analysis.redundant);
   report.dropped = system.dropped_equations();
+  report.neighbours_checked = analysis.neighbours_checked;
+  report.neighbour_distance = redundancy.step * analysis.length_scale;
   y.grow_or_shrink(system.size());
   if (settings.static_equilibrium)
     {
@@ -278,6 +258,8 @@ InitialConditionReport consistent_initial_conditions(System &system, const doubl
     }
 
   // Velocities onto B v + Phi_t = 0 (active equations: B has full row rank now)
+  Vector<double> phi, phi_t;
+  FullMatrix<double> B;
   system.constraints(t0, y, false, phi, B, phi_t);
   const unsigned int nq = system.n_q(), nv = system.n_v();
   Vector<double> v(nv), r(phi_t);
@@ -288,7 +270,7 @@ InitialConditionReport consistent_initial_conditions(System &system, const doubl
   refuse_conflicting_velocities(system, t0, y, settings.tolerance);
   consistent_derivatives(system, t0, y, yp);
 
-  system.constraints(t0, y, false, phi, B, phi_t);
+  system.constraints(t0, y, true, phi, B, phi_t); // every equation, the dropped ones included
   for (unsigned int i = 0; i < nv; ++i) v[i] = y[nq + i];
   r = phi_t;
   if (B.m()) B.vmult_add(r, v);
@@ -329,6 +311,9 @@ std::string InitialConditionReport::text() const
   for (const auto &d : dropped)
     s << "  redundant: joint " << d.joint << ", equation " << d.equation << " (" << d.description
       << ") dropped; its reaction is not unique\n";
+  if (!dropped.empty())
+    s << "  (dependent at the start and at " << neighbours_checked << " assembled configuration(s) " << neighbour_distance
+      << " m away; watched during the run)\n";
   return s.str();
 }
 } // namespace flextrack::multibody

@@ -4,12 +4,13 @@
 //       dx = -M^-1 B^T (B M^-1 B^T)^+ Phi      (dx in velocity coordinates, q += T(q) dx)
 //     The pseudo-inverse (SVD, singular values below 1e-10 of the largest dropped) copes with
 //     redundant equations before they are known.
-//  2. Redundancy, at the projected configuration: the rows of B (all joint equations, in joint
-//     order) are orthogonalised one by one (modified Gram-Schmidt, twice); a row whose remainder
-//     is below 1e-8 of its norm depends on the earlier ones and is dropped (its joint and
-//     equation are reported; its reaction is then not unique). Dependent equations that cannot be
-//     satisfied (conflicting joints) show up as a position residual that the projection cannot
-//     remove: that is an InputError naming the joints.
+//  2. Redundancy, at the projected configuration (multibody/redundancy.h): a joint equation
+//     that depends on the earlier ones (Gram-Schmidt on the scaled rows of B, in joint order) at
+//     the start *and* at assembled configurations nearby is dropped (its joint and equation are
+//     reported; its reaction is then not unique). One that depends on the others at the start
+//     only marks a singular configuration (a dead point, links in line): an InputError naming
+//     the joints. Dependent equations that cannot be satisfied (conflicting joints) show up as a
+//     position residual that the projection cannot remove: also an InputError naming the joints.
 //  3. Velocities: v = v0 - M^-1 B^T (B M^-1 B^T)^-1 (B v0 + Phi_t), active equations only.
 //  4. Accelerations and multipliers from the index-1 system
 //       [M B^T; B 0] [v'; lambda] = [Q; gamma],  gamma = -d/dt (B v + Phi_t) at fixed v
@@ -19,6 +20,7 @@
 //  velocities that the drivers prescribe at t0 (zero for drivers at rest).
 #pragma once
 
+#include <multibody/redundancy.h>
 #include <multibody/static_equilibrium.h>
 #include <multibody/system.h>
 
@@ -52,7 +54,9 @@ struct InitialConditionReport
   std::vector<BodyCorrection> corrections;
   std::vector<DroppedEquation> dropped;
   unsigned int iterations = 0;
-  double position_residual = 0, velocity_residual = 0;
+  unsigned int neighbours_checked = 0; ///< configurations nearby where the redundancy was confirmed
+  double neighbour_distance = 0;       ///< their distance from the start [m] (in the scene's length scale)
+  double position_residual = 0, velocity_residual = 0; ///< every joint equation, dropped ones included
   EquilibriumReport equilibrium; ///< solved = false unless asked for
   std::string text() const; ///< several lines for a log
 };
@@ -62,10 +66,6 @@ struct InitialConditionReport
 InitialConditionReport consistent_initial_conditions(System &system, double t0, dealii::Vector<double> &y,
                                                      dealii::Vector<double> &yp,
                                                      const InitialConditionSettings &settings = {});
-
-/// The (joint, equation) rows of @p B (rows as System::constraint_rows(true)) that depend on
-/// earlier rows.
-std::vector<unsigned int> dependent_rows(const dealii::FullMatrix<double> &B, double rank_tolerance);
 
 /// The velocities of y moved onto the active joint equations B v + Phi_t = 0 and onto the
 /// @p prescribed values (index in y of a velocity, value), by the change of least kinetic-energy

@@ -77,7 +77,9 @@ MonitorValues Monitors::evaluate(const double t, const Vector<double> &y) const
   m.time = t;
   Vector<double> phi, phi_t, v(system.n_v()), r;
   FullMatrix<double> B;
-  system.constraints(t, y, false, phi, B, phi_t);
+  // Every joint equation, the dropped (redundant) ones included: they hold only as long as they
+  // depend on the others, and a monitor of the active ones alone would not see them fail.
+  system.constraints(t, y, true, phi, B, phi_t);
   for (unsigned int i = 0; i < system.n_v(); ++i) v[i] = y[system.n_q() + i];
   r = phi_t;
   if (B.m()) B.vmult_add(r, v);

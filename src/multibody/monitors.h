@@ -1,5 +1,5 @@
-// Monitors of a run: constraint residuals, Euler-parameter drift, GGL multiplier size, and the
-// energy balance
+// Monitors of a run: constraint residuals (of every joint equation, the dropped redundant ones
+// included), Euler-parameter drift, GGL multiplier size, and the energy balance
 //   E(t) - E(0) = W_applied + W_drivers - D
 // with E = kinetic + gravity potential + strain energy (1/2 eta^T K eta) + spring potential,
 // W_applied the work of applied loads, W_drivers the work of the constraint forces
@@ -25,8 +25,8 @@ namespace flextrack::multibody
 struct MonitorValues
 {
   double time = 0;                 ///< [s]
-  double position_residual = 0;    ///< max |Phi| over the active joint equations [m or -]
-  double velocity_residual = 0;    ///< max |B v + Phi_t| [m/s or 1/s]
+  double position_residual = 0;    ///< max |Phi| over every joint equation, dropped ones included [m or -]
+  double velocity_residual = 0;    ///< max |B v + Phi_t| over every joint equation [m/s or 1/s]
   double normalisation_drift = 0;  ///< max ||p| - 1| [-]
   double max_mu = 0;               ///< max |mu|: zero on the exact solution
   double kinetic = 0, gravity = 0, strain = 0, springs = 0;        ///< [J]

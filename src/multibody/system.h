@@ -10,7 +10,8 @@
 //   F_mu     = Phi(q, t)                          (joint equations, then |p|^2 - 1 per body)
 // The Euler-parameter normalisation is a position constraint only: its velocity form 2 p^T p'
 // = p^T G^T omega vanishes identically (G p = 0), so a velocity row would make the Jacobian
-// singular. Redundant joint equations found at the start are dropped from both sets.
+// singular. Redundant joint equations found at the start (dependent there and nearby:
+// multibody/redundancy.h) are dropped from both sets, and watched during the run.
 //
 // The Jacobian dF/dy + alpha dF/dy' is assembled element by element (bodies, joints, forces)
 // into an Epetra_CrsMatrix on an Epetra_SerialComm (no MPI needed) whose pattern is fixed once:
@@ -67,6 +68,24 @@ public:
   /// Drops joint equations (pairs joint index, equation); re-lays out the multipliers.
   void drop_equations(const std::vector<std::pair<unsigned int, unsigned int>> &equations);
   const std::vector<DroppedEquation> &dropped_equations() const { return dropped; }
+
+  // Watching the dropped equations (multibody/redundancy.h). They were dropped because they
+  // depend on the others at and near the start; they hold as long as that stays so.
+  /// A dropped equation may be off by this times its scale s_r (1e-6 of the scene's length for a
+  /// translation, 1e-6 rad for a rotation), plus 100 times the active equations' scaled residual
+  /// (a dependent equation is a combination of the active ones: it inherits their residual).
+  static constexpr double dropped_equation_tolerance = 1e-6;
+  /// Scales s_r of the joint equations (rows of constraint_rows(true)) [m or -]: Phi_r / s_r is
+  /// dimensionless. 1 until set.
+  void set_equation_scales(std::vector<double> scales) { equation_scale = std::move(scales); }
+  /// max |Phi_r| / s_r over the active equations (@p of_dropped false) or the dropped ones;
+  /// @p worst (optional): that row, of constraint_rows(true).
+  double scaled_residual(double t, const dealii::Vector<double> &y, bool of_dropped, unsigned int *worst = nullptr) const;
+  /// Positive while the dropped equations hold (a root function of the run): the allowed
+  /// scaled residual minus theirs.
+  double dropped_equation_margin(double t, const dealii::Vector<double> &y) const;
+  /// The sentence on the dropped equation that holds worst at (t, y), and what to change.
+  std::string dropped_equation_report(double t, const dealii::Vector<double> &y) const;
 
   // Layout
   unsigned int n_q() const { return nq; }
@@ -205,6 +224,7 @@ private:
   std::vector<JointSlot> joints;
   std::vector<ForceSlot> forces;
   std::vector<DroppedEquation> dropped;
+  std::vector<double> equation_scale; ///< s_r per row of constraint_rows(true)
   unsigned int nq = 0, nv = 0, nlambda = 0, nmu = 0, n_own_q = 0;
   bool finalized = false;
   std::vector<ElementIndices> body_elements, joint_elements, force_elements;

@@ -3,6 +3,11 @@
 // conditions, the monitors and the linearisation (sizes there are small: n_v, not n_y).
 #include <multibody/system.h>
 
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
 namespace flextrack::multibody
 {
 using namespace dealii;
@@ -200,6 +205,62 @@ void System::constraints(const double t, const Vector<double> &y, const bool all
         }
       r0 += eqs.size();
     }
+}
+
+double System::scaled_residual(const double t, const Vector<double> &y, const bool of_dropped, unsigned int *worst) const
+{
+  double largest = 0;
+  unsigned int r0 = 0;
+  for (unsigned int j = 0; j < joints.size(); ++j)
+    {
+      const JointSlot &s = joints[j];
+      const unsigned int n = s.joint->n_equations();
+      if (of_dropped && s.active.size() == n)
+        {
+          r0 += n;
+          continue; // nothing dropped here: no need to evaluate it
+        }
+      JointEvaluation e;
+      s.joint->evaluate(joint_q(j, y), s.joint->n_own_coordinates() ? (y.begin() + (s.own_q)) : nullptr, t, e);
+      for (unsigned int k = 0; k < n; ++k)
+        {
+          const bool active = std::find(s.active.begin(), s.active.end(), k) != s.active.end();
+          if (active == of_dropped) continue;
+          const double scale = r0 + k < equation_scale.size() ? equation_scale[r0 + k] : 1.0;
+          const double value = std::abs(e.phi[k]) / scale;
+          if (!(value <= largest)) // NaN counts as the largest
+            {
+              largest = value;
+              if (worst) *worst = r0 + k;
+            }
+        }
+      r0 += n;
+    }
+  return largest;
+}
+
+double System::dropped_equation_margin(const double t, const Vector<double> &y) const
+{
+  if (dropped.empty()) return 1;
+  const double allowed = dropped_equation_tolerance + 100 * scaled_residual(t, y, false);
+  const double margin = allowed - scaled_residual(t, y, true);
+  return std::isnan(margin) ? -1.0 : margin;
+}
+
+std::string System::dropped_equation_report(const double t, const Vector<double> &y) const
+{
+  unsigned int worst = 0;
+  const double active = scaled_residual(t, y, false), value = scaled_residual(t, y, true, &worst);
+  const auto [j, k] = constraint_rows(true)[worst];
+  const double scale = worst < equation_scale.size() ? equation_scale[worst] : 1.0;
+  std::ostringstream s;
+  s << std::setprecision(3) << "the equation '" << joints[j].joint->equation_name(k) << "' of joint '"
+    << joints[j].joint->name() << "', dropped at the start as redundant, no longer holds: |Phi| = " << value * scale
+    << " (m or rad), allowed " << (dropped_equation_tolerance + 100 * active) * scale
+    << ". It depended on the other equations at the start but not here: the motion has passed a singular "
+       "configuration (a dead point, links in line). What to change: keep the mechanism away from it, or "
+       "model the loop without redundant equations (e.g. a spherical or universal joint for one revolute joint)";
+  return s.str();
 }
 
 void System::move_positions(Vector<double> &y, const Vector<double> &dx) const
