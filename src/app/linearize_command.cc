@@ -40,7 +40,8 @@ int linearize_command(const Options &options, const io::SceneFile &file)
       {
         multibody::InitialConditionSettings initial; // Multibody/Initial state: linearise about the equilibrium
         initial.static_equilibrium = scene.settings.static_equilibrium;
-        std::cout << "  " << multibody::consistent_initial_conditions(system, t0, y, yp, initial).text();
+        const std::string report = multibody::consistent_initial_conditions(system, t0, y, yp, initial).text();
+        std::cout << "  " << report; // after the call: a refused start leaves no stray indent
       }
     catch (const InputError &e)
       {
