@@ -3,7 +3,6 @@
 #include <base/names.h>
 #include <base/text.h>
 #include <io/body_scene.h>
-#include <io/hdf5_file.h>
 #include <io/multibody_scene.h>
 #include <io/output_folder.h>
 #include <io/reduced_body_cache.h>
@@ -156,21 +155,6 @@ void check_inertia(const RigidProperties &r, const std::string &entry)
                               " kg m^2) must be positive and none larger than the sum of the others");
 }
 
-/// The input hash stored in a reduced body file, empty if there is no readable file.
-std::string stored_input_hash(const std::string &file)
-{
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) return "";
-  try
-    {
-      return Hdf5File(file, Hdf5File::Mode::read).string_attribute("/", "input_hash");
-    }
-  catch (const std::exception &)
-    {
-      return "";
-    }
-}
-
 /// @p read(), with an error about a whole file (a missing file, not a body scene) attributed to
 /// @p entry of this scene; errors inside the other file keep naming that file and its entry.
 template <typename Read>
@@ -214,13 +198,14 @@ public:
     const auto source = naming_entry(prefix + "Body scene", [&] { return read_body_scene(relative(body_scene)); });
     const std::string cache =
       OutputFolder::choose("", source.output.directory, source.file) + "/reduced_body.h5";
-    if (stored_input_hash(cache) != source.input_hash && before_reduction && !reduction_prepared)
-      {
-        before_reduction();
-        reduction_prepared = true;
-      }
     log << "  body scene " << source.file << ":\n";
-    auto obtained = cached_or_reduced_body(source, cache, log, timer);
+    // Prepared (MPI started) only for a reduction the cache cannot serve, which the cache knows
+    // only after reading and checking its file in full: a damaged file with the right input hash
+    // is reduced too (issue 23; the input hash alone had left MPI unstarted there).
+    auto obtained = cached_or_reduced_body(source, cache, log, timer, [this] {
+      if (before_reduction && !reduction_prepared) before_reduction();
+      reduction_prepared = true;
+    });
     description = "body scene " + source.file + (obtained.from_cache ? ", reduced body from the cache " : ", reduced to ") + cache;
     return std::make_shared<reduction::ReducedBody>(std::move(obtained.body));
   }

@@ -1,9 +1,11 @@
 #include <base/input_error.h>
+#include <base/solver_error.h>
 #include <fem/body_model.h>
 #include <io/reduced_body_cache.h>
 #include <io/output_folder.h>
 #include <io/reduced_body_file.h>
 #include <reduction/component_modes.h>
+#include <reduction/plausibility.h>
 #include <reduction/reduced_body_builder.h>
 
 #include <cmath>
@@ -24,7 +26,9 @@ bool load_if_up_to_date(const std::string &file, const std::string &hash, reduct
   if (!std::filesystem::exists(file)) return false;
   try
     {
-      auto existing = read_reduced_body(file); // checks every shape and value, also of a cached file
+      // Checks every shape and value, the physical plausibility and the content checksum, also
+      // of a cached file: a damaged one is reduced again (the log says why), never used.
+      auto existing = read_reduced_body(file);
       if (existing.input_hash == hash)
         {
           body = std::move(existing);
@@ -61,7 +65,7 @@ JsonObject check_against_full_model(const fem::BodyModel &model, const reduction
 } // namespace
 
 ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &file, std::ostream &log,
-                                    TimerOutput &timer)
+                                    TimerOutput &timer, const std::function<void()> &before_reduction)
 {
   ObtainedBody result;
   {
@@ -73,6 +77,7 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
       log << "  reduced body is up to date: loaded " << file << " (same input hash), nothing recomputed\n";
       return result;
     }
+  if (before_reduction) before_reduction();
   try
     {
       std::unique_ptr<fem::BodyModel> model;
@@ -100,6 +105,18 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
     }
   result.body.input_hash = scene.input_hash;
   result.body.source = scene.file;
+  // The checks every read makes (reduction/plausibility.h), made once more before writing: a
+  // body the reader would refuse is never written, nor used. Valid input that reduces to an
+  // implausible body is a failure of the reduction, not of the input.
+  try
+    {
+      reduction::check_physical_plausibility(result.body);
+    }
+  catch (const std::runtime_error &e)
+    {
+      throw SolverError(scene.file + ": the reduction gave a physically implausible body: " + e.what() +
+                        "; nothing written (please report this scene)");
+    }
   TimerOutput::Scope t(timer, "write reduced body");
   if (const auto folder = std::filesystem::path(file).parent_path(); !folder.empty())
     OutputFolder(folder.string()).create();

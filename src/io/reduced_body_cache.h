@@ -11,6 +11,7 @@
 
 #include <deal.II/base/timer.h>
 
+#include <functional>
 #include <ostream>
 #include <string>
 
@@ -27,7 +28,10 @@ struct ObtainedBody
 
 /// The reduced body of @p scene: loaded from @p file if it is up to date, else built and written
 /// to @p file (its folder must exist). Progress lines go to @p log; stages are timed in @p timer.
-/// InputError (naming the scene's file) for bad input, SolverError for solver failures.
+/// @p before_reduction, if given, is called just before the body is reduced, i.e. only when the
+/// cache cannot serve it - which is known only once the cached file has been read and checked in
+/// full (a damaged file with the right input hash is reduced again). InputError (naming the
+/// scene's file) for bad input, SolverError for solver failures.
 ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &file, std::ostream &log,
-                                    dealii::TimerOutput &timer);
+                                    dealii::TimerOutput &timer, const std::function<void()> &before_reduction = {});
 } // namespace flextrack::io

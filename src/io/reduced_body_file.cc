@@ -1,9 +1,10 @@
 #include <base/names.h>
-#include <io/hdf5_file.h>
+#include <io/checksummed_hdf5.h>
 #include <base/input_error.h>
 #include <io/output_folder.h>
 #include <io/reduced_body_file.h>
 #include <reduction/arm_geometry.h>
+#include <reduction/plausibility.h>
 
 #include <mpi.h>
 #include <sys/wait.h>
@@ -55,7 +56,7 @@ Tensor<2, 3> tensor_of(const double *v)
 
 void write_file(const ReducedBody &b, const std::string &name)
 {
-  Hdf5File f(name, Hdf5File::Mode::create);
+  ChecksummedWriter f(name);
   const hsize_t n = b.n_modes();
   f.set_attribute("/", "format", reduced_body_format);
   f.set_attribute("/", "format_version", reduced_body_format_version);
@@ -141,7 +142,7 @@ void write_file(const ReducedBody &b, const std::string &name)
 }
 
 /// Members of @p group in the order of their "index" attribute.
-std::vector<std::string> in_index_order(const Hdf5File &f, const std::string &group)
+std::vector<std::string> in_index_order(ChecksummedReader &f, const std::string &group)
 {
   const auto names = f.members(group);
   if (names.size() > 100000) throw std::runtime_error("group '" + group + "' has too many members");
@@ -160,9 +161,18 @@ std::vector<std::string> in_index_order(const Hdf5File &f, const std::string &gr
   return ordered;
 }
 
-ReducedBody read_file(const std::string &name)
+/// A reduced body as read, and the checksums that say whether the file is as it was written.
+struct ReadBody
 {
-  Hdf5File f(name, Hdf5File::Mode::read);
+  ReducedBody body;
+  std::string stored_checksum, computed_checksum;
+};
+
+/// Reads every item, checking shapes, types, finiteness, names and arm geometry; the checksum
+/// and the physical checks follow in read_reduced_body.
+ReadBody read_file(const std::string &name)
+{
+  ChecksummedReader f(name);
   std::string format;
   try
     {
@@ -179,7 +189,18 @@ ReducedBody read_file(const std::string &name)
   if (version != reduced_body_format_version)
     throw std::runtime_error("format version " + std::to_string(version) + " is not supported (this FlexTrack reads " +
                              std::to_string(reduced_body_format_version) + "); reduce the body again");
-  ReducedBody b;
+  ReadBody result;
+  try
+    {
+      result.stored_checksum = f.stored_checksum();
+    }
+  catch (const std::runtime_error &e)
+    {
+      throw std::runtime_error(std::string("it has no valid content checksum (") + e.what() + ")");
+    }
+  ReducedBody &b = result.body;
+  f.string_attribute("/", "flextrack_version"); // not used, but part of the checksum
+  f.string_attribute("/", "units");
   b.input_hash = f.string_attribute("/", "input_hash");
   b.method = f.string_attribute("/", "method");
   b.source = f.string_attribute("/", "source");
@@ -288,7 +309,29 @@ ReducedBody read_file(const std::string &name)
       b.lines.push_back({{lines[2 * i], lines[2 * i + 1]}});
     }
   b.point_modes = f.read_doubles("/drawing/mode_displacements", {n, P_count, 3});
-  return b;
+  result.computed_checksum = f.computed_checksum();
+  return result;
+}
+
+/// The physical checks run first, so that a damaged body is refused naming what is wrong with
+/// it; the checksum then says whether the file changed after it was written. Throws
+/// std::runtime_error.
+void verify_contents(const ReadBody &read)
+{
+  const bool intact = read.stored_checksum == read.computed_checksum;
+  const std::string mismatch = "checksum mismatch: the file was changed or damaged after it was written "
+                               "(content_checksum " +
+                               read.stored_checksum + ", its contents sum to " + read.computed_checksum +
+                               "); reduce the body again";
+  try
+    {
+      reduction::check_physical_plausibility(read.body);
+    }
+  catch (const std::runtime_error &e)
+    {
+      throw std::runtime_error(std::string(e.what()) + (intact ? "" : "; also " + mismatch));
+    }
+  if (!intact) throw std::runtime_error(mismatch);
 }
 } // namespace
 
@@ -339,7 +382,11 @@ int signal_of_trial_read(const std::string &file)
 
 ReducedBody read_reduced_body(const std::string &file)
 {
-  if (!std::filesystem::is_regular_file(file))
+  std::error_code ec;
+  if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec))
+    throw InputError("", "is not a regular file (a folder or a device such as /dev/zero): a reduced body is an HDF5 "
+                         "file written by 'flextrack reduce FILE.prm'", file);
+  if (!std::filesystem::is_regular_file(file, ec))
     throw InputError("", "the reduced body file does not exist (write it with 'flextrack reduce FILE.prm')", file);
   if (const int signal = signal_of_trial_read(file))
     throw InputError("", std::string("not a valid reduced body: the HDF5 library crashed reading it (") +
@@ -348,7 +395,9 @@ ReducedBody read_reduced_body(const std::string &file)
                      file);
   try
     {
-      return read_file(file);
+      auto read = read_file(file);
+      verify_contents(read);
+      return std::move(read.body);
     }
   catch (const std::runtime_error &e)
     {

@@ -27,6 +27,27 @@ import time
 # and scales them by FLEXTRACK_TIME_LIMIT_FACTOR (set by tests/CMakeLists.txt there).
 TIME_FACTOR = float(os.environ.get("FLEXTRACK_TIME_LIMIT_FACTOR", "1"))
 
+# The small body (tests/input/small_body.prm) hinged to the ground, run for 10 ms.
+PENDULUM_OF_SMALL_BODY = """set Model = multibody
+subsection Multibody
+  set Bodies = b
+  set Joints = pivot
+  set End time = 0.01
+  set Output interval = 0.005
+end
+subsection Body b
+  set Kind = flexible
+  set Body scene = s.prm
+end
+subsection Joint pivot
+  set Kind = revolute
+  set Body 1 = b
+  set Body 2 = ground
+  set Position = 0, 0, 0
+  set Axis = 0, 0, 1
+end
+"""
+
 # A straight steel cantilever (the arm scene of tests/input/straight_cantilever.prm).
 ARM = """subsection Arm
   subsection Curve
@@ -224,6 +245,27 @@ CASES = {
         files={"s.prm": "<small body>"}, before=["reduce", "s.prm", "-o", "out"], tamper="nan_stiffness",
         args=["reduce", "s.prm", "-o", "out"], status=0, outputs=["reduced_body.h5", "summary.json"],
         stdout=r"reduced_body.h5 is unusable \(.*stiffness.*\): recomputing"),
+    # Issue 23, item 4: a cached body with 20 flipped mantissa bits in its arm's mode shapes (finite,
+    # each value near its old one) was "up to date"; its checksum no longer matches. One whose
+    # mass is -1 kg under a matching checksum (rewritten) fails the physical checks. Both are
+    # reduced again, and the log says why.
+    "cached_body_with_20_flipped_bits_is_rebuilt": dict(
+        files={"s.prm": "<small body>"}, before=["reduce", "s.prm", "-o", "out"], tamper="flip_bits",
+        args=["reduce", "s.prm", "-o", "out"], status=0, outputs=["reduced_body.h5", "summary.json"],
+        stdout=r"reduced_body.h5 is unusable \(.*checksum mismatch: the file was changed or damaged.*\): recomputing"),
+    "cached_body_of_negative_mass_with_matching_checksum_is_rebuilt": dict(
+        files={"s.prm": "<small body>"}, before=["reduce", "s.prm", "-o", "out"], tamper="negative_mass",
+        args=["reduce", "s.prm", "-o", "out"], status=0, outputs=["reduced_body.h5", "summary.json"],
+        stdout=r"reduced_body.h5 is unusable \(.*the mass \(/inertia/mass\) is not positive \(-1.00e\+00 kg\)\)"
+               r": recomputing"),
+    # A multibody run whose body scene's cached body is damaged but carries the right input hash:
+    # the run decided from the hash alone that nothing was to be reduced, did not start MPI, and
+    # aborted in the reduction that followed (exit status 1). It reduces again and runs.
+    "multibody_run_rebuilds_a_damaged_cached_body": dict(
+        files={"s.prm": "<small body>", "m.prm": PENDULUM_OF_SMALL_BODY}, before=["run", "m.prm"],
+        tamper="flip_bits", tampered="output/s/reduced_body.h5", args=["run", "m.prm"], status=0,
+        outputs=["monitors.csv", "summary.json"],
+        stdout=r"output/s/reduced_body.h5 is unusable \(.*checksum mismatch.*\): recomputing"),
     "track_stations_2147483647": dict(
         files={"s.prm": "<small body>", "t.prm": "include s.prm\nsubsection Reduction\n  set Track arms = boom\n"
                "  set Track stations = 2147483647\nend\n"}, args=["reduce", "t.prm"],
@@ -293,10 +335,17 @@ def main(cases=None):
         status, err, _ = run(exe, work, case["before"], {}, mpirun)
         if status != 0:
             problems.append(f"the first run ({' '.join(case['before'])}) failed: {status} {err[:300]}")
-    if case.get("tamper") == "nan_stiffness":
+    if case.get("tamper"):
         import h5py
-        with h5py.File(os.path.join(work, "out", "reduced_body.h5"), "r+") as f:
-            f["/reduced/stiffness"][0, 0] = float("nan")
+        from reduced_body_checksum import flip_bits, rewrite_checksum
+        with h5py.File(os.path.join(work, case.get("tampered", "out/reduced_body.h5")), "r+") as f:
+            if case["tamper"] == "nan_stiffness":
+                f["/reduced/stiffness"][0, 0] = float("nan")
+            elif case["tamper"] == "flip_bits":
+                flip_bits(f, "/arms/boom/modes", 20)
+            elif case["tamper"] == "negative_mass":
+                f["/inertia/mass"][0] = -1.0
+                rewrite_checksum(f)
     status, err, seconds = run(exe, work, case["args"], case, mpirun)
     message = err.strip()
     if case.get("mpi"):  # mpirun adds its own lines about the exit status; only flextrack's count

@@ -10,7 +10,10 @@ import numpy as np
 body, vtu = sys.argv[1], sys.argv[2]
 with h5py.File(body, "r") as f:
     assert f.attrs["format"] == b"FlexTrack reduced body", f.attrs["format"]
-    assert int(f.attrs["format_version"]) == 2
+    assert int(f.attrs["format_version"]) == 3
+    # Version 3: a content checksum (its definition is checked in tests/badinput/hostile_reduced_body.py).
+    checksum = f.attrs["content_checksum"].decode()
+    assert len(checksum) == 16 and int(checksum, 16) >= 0, checksum
     n = int(f.attrs["n_modes"])
     K, M, C = f["reduced/stiffness"][...], f["reduced/mass"][...], f["reduced/damping"][...]
     freq = f["reduced/frequencies_hz"][...]
