@@ -169,6 +169,10 @@ CASES = {
     # "Body my_5fbob") ended with "You can't ask for entry <Kind> you have not yet declared".
     "json_scene_with_plain_keys_runs": dict(
         files={"s.json": JSON_PLAIN_KEYS}, args=["run", "s.json"], status=0, outputs=["probes.csv", "summary.json"]),
+    # Item 5: 200 000 body names: the repeat check was pairwise and ran before the limit of 1000.
+    "bodies_200000_names": dict(
+        files={"s.prm": pendulum().replace("set Bodies  = bob", "set Bodies  = " + ", ".join(f"b{i}" for i in range(200000)))},
+        args=["run", "s.prm"], regex=r"Multibody/Bodies.*names 200000 instances; at most 1000 are allowed"),
     # Item 9: a full disk while writing mode shapes ended as deal.II's internal error (exit 4). A file
     # size limit of 4000 bytes lets the small files through and stops the first mode shape.
     "modes_write_error_in_mode_shapes": dict(
