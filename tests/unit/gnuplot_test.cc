@@ -166,3 +166,26 @@ TEST(Gnuplot, FailedScriptLeavesNoPng)
   EXPECT_EQ(files, 5u); // the four data files and bad.gp
   fs::remove_all(folder);
 }
+
+// A PNG cut short (a full disk: gnuplot still exits 0, bench.png was 4096 bytes) or not a PNG at
+// all is refused and removed; the check is the PNG signature and the IEND chunk (PNG
+// specification, ISO/IEC 15948, sections 5.2 and 11.2.5).
+TEST(Gnuplot, IncompletePngIsRefused)
+{
+  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+  const fs::path folder = data_folder("incomplete");
+  std::ofstream(folder / "cut.gp") << "set terminal pngcairo size 900,620\nset output png_file\nplot sin(x)\n"
+                                   << "unset output\nsystem(sprintf('truncate -s 4096 %s', png_file))\n";
+  const auto cut = flextrack::io::draw_png(folder.string(), "cut.gp", "cut.png");
+  EXPECT_FALSE(cut.drawn);
+  EXPECT_NE(cut.problem.find("incomplete"), std::string::npos) << cut.problem;
+  EXPECT_FALSE(fs::exists(folder / "cut.png"));
+  std::ofstream(folder / "text.gp") << "set terminal dumb\nset output png_file\nplot sin(x)\n";
+  const auto text = flextrack::io::draw_png(folder.string(), "text.gp", "text.png");
+  EXPECT_FALSE(text.drawn);
+  EXPECT_FALSE(fs::exists(folder / "text.png"));
+  // The same script without the cut draws a whole PNG: the check is not what fails above.
+  std::ofstream(folder / "whole.gp") << "set terminal pngcairo size 900,620\nset output png_file\nplot sin(x)\n";
+  EXPECT_TRUE(flextrack::io::draw_png(folder.string(), "whole.gp", "whole.png").drawn);
+  fs::remove_all(folder);
+}
