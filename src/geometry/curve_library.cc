@@ -4,8 +4,10 @@
 #include <geometry/spline.h>
 #include <base/input_error.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 namespace flextrack::geometry
 {
@@ -101,6 +103,17 @@ CurveEntries entries_of(const std::string &section, const std::string &advice)
   return {section, {section, section, section}, advice};
 }
 
+/// Smallest distance between the segments [a, b] and [c, d] [m] (clamped closest points).
+double segment_distance(const Point<3> &a, const Point<3> &b, const Point<3> &c, const Point<3> &d)
+{
+  const Vec3 u = b - a, v = d - c, w = a - c;
+  const double uu = u * u, uv = u * v, vv = v * v, uw = u * w, vw = v * w, det = uu * vv - uv * uv;
+  double x = det > 1e-14 * uu * vv ? std::clamp((uv * vw - vv * uw) / det, 0.0, 1.0) : 0.0;
+  double y = vv > 0 ? std::clamp((uv * x + vw) / vv, 0.0, 1.0) : 0.0;
+  x = uu > 0 ? std::clamp((uv * y - uw) / uu, 0.0, 1.0) : 0.0;
+  return (w + x * u - y * v).norm();
+}
+
 std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const CurveEntries &entries)
 {
   const std::string what = "the curve (" + curve->description() + ")";
@@ -132,11 +145,16 @@ std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const C
     throw InputError(entries.section, what + " has zero length; " + entries.advice);
   // Coordinates and the differential geometry must be finite along the whole curve.
   constexpr int samples = 1024;
+  const double h = L / samples;
+  std::vector<Point<3>> points(samples + 1);
+  std::vector<Vec3> tangents(samples + 1);
+  std::vector<double> turn_rates(samples + 1); // curvature x h at each sample [rad]
   for (int i = 0; i <= samples; ++i)
     {
       const double s = L * i / samples;
       check_position(s);
       const CurveGeometry g = curve->geometry(s);
+      points[i] = g.position;
       bool finite = std::isfinite(g.curvature) && std::isfinite(g.torsion);
       for (int d = 0; d < 3; ++d) finite = finite && std::isfinite(g.tangent[d]);
       if (!finite)
@@ -147,7 +165,58 @@ std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const C
                "the curve must be smooth and regular";
           throw InputError(entries.section, m.str());
         }
+      tangents[i] = g.tangent;
+      turn_rates[i] = std::isfinite(g.curvature) ? g.curvature * h : 0.0;
     }
+  // Where the samples resolve the curve (the median turn between samples at most 0.2 rad; a
+  // helix of many turns is not resolved, and its entries have limits of their own), a turn of
+  // the tangent by more than 90 degrees between two samples is a cusp or a kink: a regular
+  // curve would need a radius below 0.64 h = L / 1600 there. A cusp such as (t^3, t^2) at t = 0
+  // reverses the tangent and was accepted (its curvature at the samples beside it is large too,
+  // so no bound from the sampled curvature would catch it).
+  std::vector<double> sorted = turn_rates;
+  std::nth_element(sorted.begin(), sorted.begin() + samples / 2, sorted.end());
+  const bool resolved = sorted[samples / 2] <= 0.2;
+  for (int i = 1; i <= samples && resolved; ++i)
+    {
+      // A sample on the cusp itself has no direction (a zero tangent): a turn of 90 degrees to
+      // each side; the turn across it (i - 1 to i + 1) is the reversal.
+      const bool no_direction = tangents[i].norm() < 0.5;
+      const double turn = std::acos(std::clamp(tangents[i - 1] * tangents[i], -1.0, 1.0));
+      if (turn > M_PI / 2 || no_direction)
+        {
+          std::ostringstream m;
+          m << what << " turns its tangent by " << turn * 180 / M_PI << " degrees between s = " << L * (i - 1) / samples
+            << " and " << L * i / samples << " m: a cusp or a kink; the curve must be smooth and regular";
+          throw InputError(entries.section, m.str());
+        }
+    }
+  // A curve that crosses itself would put two parts of an arm in one place. The polygon of the
+  // samples lies within the sagitta k h^2 / 8 of the curve; two segments that are not neighbours
+  // along the curve and come closer than that (plus 1e-9 L of round-off) cross or touch.
+  // Checked where the samples resolve the curve (above). The ends of a closed ring may meet.
+  double sagitta = 0;
+  for (int i = 0; i < samples; ++i)
+    {
+      const double k = curve->geometry(L * (i + 0.5) / samples).curvature;
+      if (std::isfinite(k)) sagitta = std::max(sagitta, k * h * h / 8);
+    }
+  const double touching = 2 * sagitta + 1e-9 * std::max(L, scale);
+  for (int i = 0; i < samples && resolved; ++i)
+    for (int j = i + 3; j < samples; ++j)
+      {
+        if (i == 0 && j == samples - 1) continue;
+        const double gap = segment_distance(points[i], points[i + 1], points[j], points[j + 1]);
+        // Segments near each other along the curve are near in space anyway: only pairs at
+        // least 3 h apart along the curve and closer than a third of that count.
+        if (gap <= touching && gap < (j - i) * h / 3)
+          {
+            std::ostringstream m;
+            m << what << " crosses or touches itself: the parts near s = " << L * (i + 0.5) / samples << " m and s = "
+              << L * (j + 0.5) / samples << " m come within " << gap << " m of each other; an arm cannot pass through itself";
+            throw InputError(entries.section, m.str());
+          }
+      }
   return curve;
 }
 

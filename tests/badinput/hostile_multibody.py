@@ -173,6 +173,20 @@ CASES = {
     "bodies_200000_names": dict(
         files={"s.prm": pendulum().replace("set Bodies  = bob", "set Bodies  = " + ", ".join(f"b{i}" for i in range(200000)))},
         args=["run", "s.prm"], regex=r"Multibody/Bodies.*names 200000 instances; at most 1000 are allowed"),
+    # Item 8: a cusp and a curve that crosses itself were accepted as arms.
+    "arm_with_a_cusp": dict(
+        files={"s.prm": hostile_scenes.parametric("t^3", "t^2", start="-1", end="1")}, args=["modes", "s.prm"],
+        regex=r"Arm/Curve.*turns its tangent by .* degrees between s = .*: a cusp or a kink"),
+    "arm_crossing_itself": dict(
+        files={"s.prm": hostile_scenes.parametric("sin(t)", "sin(2*t)", start="-0.5", end="3.6")},
+        args=["modes", "s.prm"], regex=r"Arm/Curve.*crosses or touches itself: the parts near s = "),
+    # Not refused: a whole ring (its two ends meet) and a helix whose turns are 1 mm apart.
+    "arm_full_ring_is_read": dict(
+        files={"s.prm": hostile_scenes.parametric("cos(t)", "sin(t)", start="0", end="6.283185307179586")}, args=["modes", "s.prm"],
+        status=0, outputs=["frequencies.csv"]),
+    "arm_tight_helix_is_read": dict(
+        files={"s.prm": hostile_scenes.parametric("0.1*cos(t)", "0.1*sin(t)", "0.001*t/(2*pi)", start="0", end="18.84955592153876")},
+        args=["modes", "s.prm"], status=0, outputs=["frequencies.csv"]),
     # Item 9: a full disk while writing mode shapes ended as deal.II's internal error (exit 4). A file
     # size limit of 4000 bytes lets the small files through and stops the first mode shape.
     "modes_write_error_in_mode_shapes": dict(
