@@ -12,15 +12,12 @@
 
 namespace flextrack::geometry
 {
+using base::number_text;
+
 namespace
 {
 constexpr int grid_intervals = 2000;
 constexpr int zoom_levels = 6, zoom_points = 50;
-
-std::string number(const double v)
-{
-  return base::number_text(v);
-}
 
 /// The largest of |f|, |f'| T and |f''| T^2 at @p t (the derivatives scaled by the span T to the
 /// law's own unit), or NaN if any is not finite; @p what names the one that is largest or bad.
@@ -34,14 +31,14 @@ double size_at(const Expression &law, const double t, const double span, const i
       const double d = j.derivative(k);
       if (!std::isfinite(d))
         {
-          what = std::string(names[k]) + " " + number(d);
+          what = std::string(names[k]) + " " + number_text(d);
           return std::numeric_limits<double>::quiet_NaN();
         }
       const double scaled = std::abs(d) * std::pow(span, k);
       if (scaled >= largest)
         {
           largest = scaled;
-          what = std::string(names[k]) + " " + number(d);
+          what = std::string(names[k]) + " " + number_text(d);
         }
     }
   return largest;
@@ -61,10 +58,10 @@ void check_time_law(const Expression &law, const TimeWindow &window, const int d
       std::string what;
       size[i] = size_at(law, t, span, derivatives, what);
       if (std::isnan(size[i]))
-        throw ExpressionError(text + " is not finite at t = " + number(t) + " s (" + what +
+        throw ExpressionError(text + " is not finite at t = " + number_text(t) + " s (" + what +
                               "): a law of time must be defined over the whole run, from the start time to the end time");
       if (size[i] > max_law_magnitude && too_large.empty())
-        too_large = text + " reaches " + what + " at t = " + number(t) + " s: beyond " + number(max_law_magnitude) +
+        too_large = text + " reaches " + what + " at t = " + number_text(t) + " s: beyond " + number_text(max_law_magnitude) +
                     " (SI units; derivatives times the run's duration); no machine needs it";
     }
   // A pole between grid points: zoom in on the largest value.
@@ -81,7 +78,7 @@ void check_time_law(const Expression &law, const TimeWindow &window, const int d
           std::string what;
           const double s = size_at(law, t, span, derivatives, what);
           if (std::isnan(s)) // the pole itself
-            throw ExpressionError(text + " has a pole at t = " + number(t) + " s (" + what +
+            throw ExpressionError(text + " has a pole at t = " + number_text(t) + " s (" + what +
                                   "): a law of time must be bounded over the whole run");
           if (s > best) best = s, t_best = t;
         }
@@ -90,8 +87,8 @@ void check_time_law(const Expression &law, const TimeWindow &window, const int d
       const double h = (b - a) / zoom_points;
       a = std::max(t0, t_best - h), b = std::min(window.end, t_best + h);
       if (growing >= 3)
-        throw ExpressionError(text + " has a pole near t = " + number(t_best) + " s (it grows without bound: " +
-                              number(best) + " within " + number(h) + " s of it): a law of time must be bounded over the whole run");
+        throw ExpressionError(text + " has a pole near t = " + number_text(t_best) + " s (it grows without bound: " +
+                              number_text(best) + " within " + number_text(h) + " s of it): a law of time must be bounded over the whole run");
     }
   if (!too_large.empty()) throw ExpressionError(too_large);
 }

@@ -116,7 +116,7 @@ TEST(Gnuplot, StringIsLiteralsJoinedByQuotes)
 
 TEST(Gnuplot, EveryScriptWithHostileTextRunsNoCommand)
 {
-  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+  ASSERT_TRUE(have_gnuplot()) << "gnuplot is a test dependency (.ci/setup installs gnuplot-nox)";
   unsigned int n = 0;
   for (const auto &text : hostile_texts())
     {
@@ -134,7 +134,7 @@ TEST(Gnuplot, EveryScriptWithHostileTextRunsNoCommand)
 // blanks), so the quoting neither lets it out nor mangles it.
 TEST(Gnuplot, HostileTitleReadsBackAsText)
 {
-  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+  ASSERT_TRUE(have_gnuplot()) << "gnuplot is a test dependency (.ci/setup installs gnuplot-nox)";
   const fs::path folder = data_folder("read_back");
   for (const std::string text : {"x'; system 'touch PWNED'; y='.prm", "`touch PWNED` @cmd \\'"})
     {
@@ -153,7 +153,7 @@ TEST(Gnuplot, HostileTitleReadsBackAsText)
 // A script that fails leaves no PNG and no temporary, and says so.
 TEST(Gnuplot, FailedScriptLeavesNoPng)
 {
-  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+  ASSERT_TRUE(have_gnuplot()) << "gnuplot is a test dependency (.ci/setup installs gnuplot-nox)";
   const fs::path folder = data_folder("failing");
   std::ofstream(folder / "bench.png") << "an older plot";
   std::ofstream(folder / "bad.gp") << "set terminal pngcairo\nset output png_file\nplot 'no_such_file.csv'\n";
@@ -172,7 +172,7 @@ TEST(Gnuplot, FailedScriptLeavesNoPng)
 // specification, ISO/IEC 15948, sections 5.2 and 11.2.5).
 TEST(Gnuplot, IncompletePngIsRefused)
 {
-  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+  ASSERT_TRUE(have_gnuplot()) << "gnuplot is a test dependency (.ci/setup installs gnuplot-nox)";
   const fs::path folder = data_folder("incomplete");
   std::ofstream(folder / "cut.gp") << "set terminal pngcairo size 900,620\nset output png_file\nplot sin(x)\n"
                                    << "unset output\nsystem(sprintf('truncate -s 4096 %s', png_file))\n";

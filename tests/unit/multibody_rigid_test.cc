@@ -211,21 +211,8 @@ TEST(MultibodyRigid, four_bar_linkage_runs_and_names_dropped_equations)
   // rocker CD = 2 m; four revolute joints about z: 20 equations for 18 coordinates and one degree
   // of freedom, so 3 are dependent. The run (2 s under gravity, crank started at 1 rad/s) must
   // keep every active constraint satisfied and report the three dropped equations.
-  const Vector3 A, B({0, 1, 0}), D({2, 0, 0});
-  // C: |C - B| = 2.5, |C - D| = 2, upper intersection
-  const double b = 2.5, c = 2.0, d = (D - B).norm(), a_ = (b * b - c * c + d * d) / (2 * d), h = std::sqrt(b * b - a_ * a_);
-  const Vector3 e = (D - B) / d, n({-e[1], e[0], 0});
-  const Vector3 C = B + a_ * e + h * n;
   System s(Vector3({0, -9.81, 0}));
-  add_rigid(s, "crank", 1.0, diagonal(0.01, 0.1, 0.1), 0.5 * (A + B), geometry::euler_parameters_from_axis_angle(Vector3({0, 0, 1}), M_PI / 2),
-            Vector3(), Vector3({0, 0, 1}));
-  add_rigid(s, "coupler", 2.0, diagonal(0.01, 1.0, 1.0), 0.5 * (B + C));
-  add_rigid(s, "rocker", 1.5, diagonal(0.01, 0.5, 0.5), 0.5 * (C + D));
-  add_joint(s, "revolute", "A", "crank", "ground", A, Vector3({0, 0, 1}));
-  add_joint(s, "revolute", "B", "coupler", "crank", B, Vector3({0, 0, 1}));
-  add_joint(s, "revolute", "C", "rocker", "coupler", C, Vector3({0, 0, 1}));
-  add_joint(s, "revolute", "D", "rocker", "ground", D, Vector3({0, 0, 1}));
-  s.finalize();
+  add_planar_four_bar(s);
   Vector<double> y, yp;
   const auto report = consistent_initial_conditions(s, 0, y, yp);
   std::cout << report.text();

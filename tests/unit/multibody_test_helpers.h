@@ -2,6 +2,7 @@
 // tests also exercise what a scene reader calls), rigid bodies, and a run to t_end.
 #pragma once
 
+#include <geometry/rotation.h>
 #include <multibody/body.h>
 #include <multibody/ida_integrator.h>
 #include <multibody/initial_conditions.h>
@@ -10,6 +11,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <cmath>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -73,5 +75,26 @@ inline IntegratorSettings tight(const double rtol = 1e-10, const double atol = 1
   s.relative_tolerance = rtol;
   s.absolute_tolerance = atol;
   return s;
+}
+
+/// A planar four-bar under gravity (-9.81 m/s^2 along y), finalised: ground pivots A = (0,0,0) and
+/// D = (2,0,0), crank AB = 1 m up (B = (0,1,0)), coupler BC = 2.5 m, rocker CD = 2 m (C the upper
+/// intersection), four revolute joints about z named A, B, C, D; the crank started at 1 rad/s.
+/// 20 equations for 18 coordinates and one degree of freedom: 3 are dependent everywhere.
+inline void add_planar_four_bar(System &s)
+{
+  const Vector3 A, B({0, 1, 0}), D({2, 0, 0});
+  const double b = 2.5, c = 2.0, d = (D - B).norm(), a_ = (b * b - c * c + d * d) / (2 * d), h = std::sqrt(b * b - a_ * a_);
+  const Vector3 e = (D - B) / d, n({-e[1], e[0], 0});
+  const Vector3 C = B + a_ * e + h * n;
+  add_rigid(s, "crank", 1.0, diagonal(0.01, 0.1, 0.1), 0.5 * (A + B),
+            geometry::euler_parameters_from_axis_angle(Vector3({0, 0, 1}), M_PI / 2), Vector3(), Vector3({0, 0, 1}));
+  add_rigid(s, "coupler", 2.0, diagonal(0.01, 1.0, 1.0), 0.5 * (B + C));
+  add_rigid(s, "rocker", 1.5, diagonal(0.01, 0.5, 0.5), 0.5 * (C + D));
+  add_joint(s, "revolute", "A", "crank", "ground", A, Vector3({0, 0, 1}));
+  add_joint(s, "revolute", "B", "coupler", "crank", B, Vector3({0, 0, 1}));
+  add_joint(s, "revolute", "C", "rocker", "coupler", C, Vector3({0, 0, 1}));
+  add_joint(s, "revolute", "D", "rocker", "ground", D, Vector3({0, 0, 1}));
+  s.finalize();
 }
 } // namespace flextrack::multibody::test
