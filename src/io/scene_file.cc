@@ -148,13 +148,58 @@ void declare_model_entry(ParameterHandler &prm)
                     "and probes, subsection Multibody, simulated by 'flextrack run'; doc/multibody.md).");
 }
 
+namespace
+{
+bool is_lower_hex(const char c)
+{
+  return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+}
+
+/// @p text with every '_' of a JSON key that does not start a mangled character ("_" and two
+/// lower-case hex digits, as deal.II writes them) written as "_5f". deal.II demangles every key
+/// it reads, also of the subsections pass 1 skips, and its debug library stops at an assertion on
+/// a plain "my_bob" (the release library reads a garbled name). Keys named exactly by
+/// with_mangled_json_keys are already in that form.
+std::string with_demanglable_keys(const std::string &text)
+{
+  std::string out;
+  out.reserve(text.size());
+  std::size_t i = 0;
+  while (i < text.size())
+    {
+      if (text[i] != '"')
+        {
+          out += text[i++];
+          continue;
+        }
+      std::size_t end = i + 1; // the closing quote
+      while (end < text.size() && text[end] != '"') end += text[end] == '\\' ? 2 : 1;
+      if (end >= text.size())
+        {
+          out += text.substr(i);
+          break;
+        }
+      std::size_t next = end + 1;
+      while (next < text.size() && std::isspace(static_cast<unsigned char>(text[next]))) ++next;
+      const bool key = next < text.size() && text[next] == ':';
+      for (std::size_t k = i; k <= end; ++k)
+        {
+          const bool mangled = k + 2 < end && is_lower_hex(text[k + 1]) && is_lower_hex(text[k + 2]);
+          out += key && text[k] == '_' && !mangled ? std::string("_5f") : std::string(1, text[k]);
+        }
+      i = end + 1;
+    }
+  return out;
+}
+} // namespace
+
 void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const
 {
   try
     {
       if (json)
         {
-          std::istringstream in(text);
+          std::istringstream in(with_demanglable_keys(text));
           prm.parse_input_from_json(in, skip_undefined);
         }
       else

@@ -389,7 +389,7 @@ def main(cases=None):
         if (case.get("names_file", True) and os.path.basename(scene) not in message) or entry not in message:
             problems.append(f"the message does not name the file '{os.path.basename(scene)}' and the entry '{entry}'")
         if not re.search(case.get("regex", "^$"), message):
-            problems.append(f"the message does not say /{case['regex']}/")
+            problems.append(f"the message does not say /{case.get('regex', '')}/ (exit status {status}): {message[:300]}")
         if os.path.isdir(out) and [f for f in os.listdir(out) if not os.path.islink(os.path.join(out, f))]:
             problems.append("files were left in the output folder: " + ", ".join(sorted(os.listdir(out)))[:200])
     for p in problems:
