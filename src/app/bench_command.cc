@@ -78,6 +78,7 @@ multibody::IntegratorSettings with_rtol(const multibody::IntegratorSettings &sce
   s.relative_tolerance = rtol;
   s.absolute_tolerance = scene.absolute_tolerance * scale;
   if (scene.velocity_tolerance > 0) s.velocity_tolerance = scene.velocity_tolerance * scale;
+  for (double &v : s.velocity_tolerances) v *= scale;
   return s;
 }
 

@@ -1,6 +1,7 @@
 // Consistent start and integration of a multibody scene (multibody_runs.h).
 #include <app/multibody_runs.h>
 #include <multibody/end_stops.h>
+#include <multibody/growth_watch.h>
 #include <base/input_error.h>
 #include <base/solver_error.h>
 
@@ -28,10 +29,14 @@ multibody::InitialConditionReport consistent_start(io::MultibodyScene &scene, Ve
 std::string integrate(multibody::System &system, multibody::TimeIntegrator &integrator, const multibody::SimulationSettings &settings,
                       const std::function<void(double, const Vector<double> &)> &output)
 {
+  // Checked before each row is written: the rows up to the last one the model could hold stay.
+  const multibody::GrowthWatch growth(system);
   try
     {
       return multibody::integrate_with_limits(system, integrator, settings.end_time, settings.output_interval,
                                               [&](const double time, const Vector<double> &state, const Vector<double> &) {
+                                                const std::string grown = growth.check(time, state);
+                                                if (!grown.empty()) throw SolverError(grown);
                                                 output(time, state);
                                               });
     }

@@ -210,7 +210,12 @@ int run_command(const Options &options, const io::SceneFile &file)
   out.tidy_previous_run("run");
   io::RunRecorder recorder(system, scene.probes, out);
   io::ProbePaths paths(system, scene.probes);
-  const auto owned_integrator = multibody::make_integrator(system, settings.integrator);
+  // The entries left "auto" are chosen here, for this scene, and said in the log and summary.json.
+  multibody::IntegratorSettings integrator_settings = settings.integrator;
+  const std::string chosen = multibody::choose_automatic_settings(system, integrator_settings);
+  if (!chosen.empty() && settings.integrator.method == multibody::IntegrationMethod::ida)
+    std::cout << "  integrator (chosen for this scene): " << chosen << "\n";
+  const auto owned_integrator = multibody::make_integrator(system, integrator_settings);
   auto &integrator = *owned_integrator;
   multibody::Monitors monitors(system);
   integrator.initialize(settings.start_time, y, yp);
@@ -285,7 +290,10 @@ int run_command(const Options &options, const io::SceneFile &file)
       .add("output_rows", recorder.n_rows())
       .add("animation_frames", animation ? animation->n_frames() : 0u)
       .add("unknowns", system.size())
-      .add("integrator", statistics_json(integrator.statistics()).add("method", settings.integrator.method_name()))
+      .add("integrator", statistics_json(integrator.statistics())
+                             .add("method", settings.integrator.method_name())
+                             .add("maximum_order", integrator_settings.max_order)
+                             .add("chosen_for_this_scene", chosen))
       .add("initial_conditions", initial_conditions_json(report))
       .add("max_over_output_rows", drift);
     if (settings.rigid_reference)

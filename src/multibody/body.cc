@@ -194,6 +194,17 @@ double FloatingBody::gravity_potential(const double *q, const Vector3 &gravity) 
   return -(gravity * (inv.mass * f.R + f.A * S));
 }
 
+std::vector<double> FloatingBody::modal_angular_frequencies() const
+{
+  std::vector<double> omega(n, 0.0);
+  for (unsigned int k = 0; k < n; ++k)
+    {
+      const double m = reduced->mass(k, k), stiffness = K(k, k);
+      omega[k] = m > 0 && stiffness > 0 ? std::sqrt(stiffness / m) : 0.0;
+    }
+  return omega;
+}
+
 double FloatingBody::strain_energy(const double *q) const
 {
   if (n == 0) return 0;

@@ -151,6 +151,9 @@ public:
   const reduction::ReducedBody *source() const { return reduced.get(); }
   const reduction::InertiaInvariants &invariants() const { return inv; }
   bool geometric_stiffening() const { return stiffening; }
+  /// Angular frequency of each modal coordinate [rad/s]: sqrt(K_kk / M_kk) of the reduced
+  /// matrices (exact for the diagonalised bases of reduction/, a Rayleigh quotient otherwise).
+  std::vector<double> modal_angular_frequencies() const;
 
   FrameState frame(const double *q, const double *v = nullptr) const;
   void initial_coordinates(double *q, double *v) const override;

@@ -1,10 +1,13 @@
 // Integrator settings and the choice of method (time_integrator.h).
+#include <base/input_error.h>
+#include <base/text.h>
 #include <multibody/generalized_alpha.h>
 #include <multibody/ida_integrator.h>
 #include <multibody/time_integrator.h>
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace flextrack::multibody
 {
@@ -21,14 +24,19 @@ void IntegratorSettings::declare_parameters(ParameterHandler &prm)
                     "adaptive step, its error test.");
   prm.declare_entry("Absolute tolerance", "1e-8", Patterns::Double(0),
                     "Absolute tolerance, the same for every unknown [m, rad, modal units, and per s] (both methods).");
-  prm.declare_entry("Velocity tolerance", "0", Patterns::Double(0),
-                    "IDA's absolute tolerance of the velocities [m/s, rad/s, modal units/s], 0 to 1e6; 0: the "
-                    "absolute tolerance. A value about the absolute tolerance times the highest angular "
-                    "frequency of interest [rad/s] lets IDA step over stiff elastic modes that do not matter.");
+  prm.declare_entry("Velocity tolerance", "auto", Patterns::Anything(),
+                    "IDA's absolute tolerance of the velocities [m/s, rad/s, modal units/s]: 'auto' (the "
+                    "default), 0 (the absolute tolerance) or a number from 1e-15 to 1e6. 'auto': each modal "
+                    "velocity gets the absolute tolerance times its mode's angular frequency, so a vibration "
+                    "whose amplitude is within the position tolerance is not resolved in time; the "
+                    "velocities of the frames and joints get the absolute tolerance (doc/multibody.md).");
   prm.declare_entry("Multiplier tolerance", "1e-2", Patterns::Double(0),
                     "Absolute tolerance of the Lagrange multipliers in IDA's Newton test [N, N m, 1/s] (they "
                     "are not in the error test).");
-  prm.declare_entry("Maximum order", "5", Patterns::Integer(1, 5), "Largest BDF order IDA may use [-].");
+  prm.declare_entry("Maximum order", "auto", Patterns::Anything(),
+                    "Largest BDF order IDA may use [-]: 'auto' (the default) or 1 to 5. 'auto': 2 when a "
+                    "flexible body has elastic modes (BDF 3 to 5 are not stable for lightly damped vibration "
+                    "they step over; BDF 2 is), 5 when every body is rigid.");
   prm.declare_entry("Maximum Newton iterations", "4", Patterns::Integer(1, 100),
                     "Newton iterations per step before IDA rebuilds the Jacobian or cuts the step [-], 1 to 100 "
                     "(IDA's default 4). The slewing beam (6 modes, rtol 1e-5) needs 581 Jacobians with 4 and 309 "
@@ -51,9 +59,19 @@ void IntegratorSettings::parse_parameters(ParameterHandler &prm)
   method = prm.get("Method") == "generalized_alpha" ? IntegrationMethod::generalized_alpha : IntegrationMethod::ida;
   relative_tolerance = prm.get_double("Relative tolerance");
   absolute_tolerance = prm.get_double("Absolute tolerance");
-  velocity_tolerance = prm.get_double("Velocity tolerance");
+  const std::string v_tol = base::trim(prm.get("Velocity tolerance"));
+  automatic_velocity_tolerance = v_tol == "auto";
+  velocity_tolerance = automatic_velocity_tolerance ? 0 : base::parse_number(v_tol, "Multibody/Integrator/Velocity tolerance", "'auto' or a number (m/s, rad/s, modal units/s)");
   multiplier_tolerance = prm.get_double("Multiplier tolerance");
-  max_order = prm.get_integer("Maximum order");
+  const std::string order = base::trim(prm.get("Maximum order"));
+  automatic_max_order = order == "auto";
+  if (!automatic_max_order)
+    {
+      const double o = base::parse_number(order, "Multibody/Integrator/Maximum order", "'auto' or an integer from 1 to 5");
+      if (!(o == 1 || o == 2 || o == 3 || o == 4 || o == 5))
+        throw InputError("Multibody/Integrator/Maximum order", "is '" + order + "'; allowed: auto, 1, 2, 3, 4, 5");
+      max_order = static_cast<unsigned int>(o);
+    }
   max_newton_iterations = prm.get_integer("Maximum Newton iterations");
   max_step = prm.get_double("Maximum step");
   initial_step = prm.get_double("Initial step");
@@ -68,8 +86,67 @@ std::string IntegratorSettings::method_name() const
   return method == IntegrationMethod::ida ? "ida" : "generalized_alpha";
 }
 
-std::unique_ptr<TimeIntegrator> make_integrator(System &system, const IntegratorSettings &settings)
+std::string choose_automatic_settings(const System &system, IntegratorSettings &settings)
 {
+  // Angular frequency [rad/s] of each velocity coordinate: a flexible body's modal velocities
+  // have their mode's; frames and joints' own coordinates have none (0).
+  std::vector<double> omega(system.n_v(), 0.0);
+  double highest = 0;
+  unsigned int n_modes = 0;
+  for (unsigned int b = 0; b < system.n_bodies(); ++b)
+    {
+      const auto *body = dynamic_cast<const FloatingBody *>(&system.body(b));
+      if (!body || body->n_modes() == 0) continue;
+      const auto w = body->modal_angular_frequencies();
+      for (unsigned int k = 0; k < w.size(); ++k)
+        {
+          omega[system.v_offset(b) + 6 + k] = w[k];
+          highest = std::max(highest, w[k]);
+        }
+      n_modes += w.size();
+    }
+  std::ostringstream note;
+  if (settings.automatic_max_order)
+    {
+      settings.max_order = n_modes > 0 ? 2 : 5;
+      settings.automatic_max_order = false;
+      if (n_modes > 0)
+        note << "BDF order at most 2 (elastic modes up to " << base::number_text(highest / (2 * M_PI))
+             << " Hz: BDF 3-5 are unstable for lightly damped vibration they step over)";
+      else
+        note << "BDF order at most 5 (every body rigid)";
+    }
+  if (settings.automatic_velocity_tolerance)
+    {
+      settings.automatic_velocity_tolerance = false;
+      settings.velocity_tolerance = 0;
+      settings.velocity_tolerances.assign(system.n_v(), settings.absolute_tolerance);
+      // Frames and joints' own coordinates carry every mode's vibration through the joints.
+      // Their tolerance uses the geometric mean of the lowest and the highest modal frequency:
+      // the highest (as the modal velocities' rule would give) let the probes drift to 1e-4 of
+      // their path on the scenes of prm/bench/default_*.prm, the lowest cost up to 30 times more
+      // steps (measurements in doc/benchmarks.md).
+      double lowest = highest;
+      for (const double w : omega)
+        if (w > 0) lowest = std::min(lowest, w);
+      const double frame_omega = std::sqrt(lowest * highest);
+      for (unsigned int k = 0; k < system.n_v(); ++k)
+        settings.velocity_tolerances[k] = settings.absolute_tolerance * std::max(1.0, omega[k] > 0 ? omega[k] : frame_omega);
+      if (n_modes > 0)
+        note << (note.tellp() > 0 ? "; " : "") << "velocity tolerance of each of the " << n_modes
+             << " modal velocities = absolute tolerance x its angular frequency (up to "
+             << base::number_text(settings.absolute_tolerance * highest)
+             << "), so vibration within the position tolerance is not resolved; of the frames and joints = "
+             << base::number_text(settings.absolute_tolerance * std::max(1.0, frame_omega))
+             << " (absolute tolerance x the geometric mean of the lowest and highest modal angular frequency)";
+    }
+  return note.str();
+}
+
+std::unique_ptr<TimeIntegrator> make_integrator(System &system, const IntegratorSettings &requested)
+{
+  IntegratorSettings settings = requested;
+  choose_automatic_settings(system, settings);
   if (settings.method == IntegrationMethod::generalized_alpha)
     return std::make_unique<GeneralizedAlphaIntegrator>(system, settings);
   return std::make_unique<IdaIntegrator>(system, settings);

@@ -31,6 +31,12 @@ struct IntegratorSettings
   /// A looser one lets IDA step over stiff elastic modes whose vibration is far below the
   /// position tolerance but whose velocity (omega times larger) is not below a tight one.
   double velocity_tolerance = 0;
+  /// "Velocity tolerance = auto" (the default): chosen per velocity by choose_automatic_settings().
+  bool automatic_velocity_tolerance = true;
+  /// Per velocity coordinate (n_v), set by choose_automatic_settings(); empty: velocity_tolerance.
+  std::vector<double> velocity_tolerances;
+  /// "Maximum order = auto" (the default): chosen by choose_automatic_settings().
+  bool automatic_max_order = true;
   /// Absolute tolerance of the multipliers lambda, mu [N, N m, 1/s]. They are excluded from the
   /// error test, so this enters only IDA's Newton convergence test, where a tight value fails:
   /// index-2 multipliers carry roundoff amplified by c_j ~ 1/h (mu ~ eps |q| / h).
@@ -94,6 +100,11 @@ protected:
   double output_origin = 0; ///< t0 of initialize() [s]
 };
 
-/// The integrator that @p settings ask for, on @p system.
+/// The entries left "auto" in @p settings, chosen for @p system (velocity tolerances per
+/// coordinate, the BDF order limit; doc/multibody.md, "Integrator defaults"), and the sentence that
+/// says what was chosen and why (empty if nothing was automatic). Idempotent.
+std::string choose_automatic_settings(const System &system, IntegratorSettings &settings);
+
+/// The integrator that @p settings ask for, on @p system (entries left "auto" chosen first).
 std::unique_ptr<TimeIntegrator> make_integrator(System &system, const IntegratorSettings &settings);
 } // namespace flextrack::multibody

@@ -210,9 +210,11 @@ def flexible(exe, scene, out):
     check(max(mon["strain_energy_J"]) > 0, "the body deforms (strain energy > 0)")
     check(max(mon["dissipated_J"]) > 0, "modal damping dissipates energy")
     drift = summary["max_over_output_rows"]
-    # |p|^2 - 1 = 0 is a GGL position constraint, kept to IDA's Newton tolerance, which scales
-    # with rtol (1e-6 here): measured 3e-9; bound 1e-7.
-    check(drift["euler_parameter_normalisation"] < 1e-7, f"|p| - 1 below 1e-7: {drift['euler_parameter_normalisation']:.1e}")
+    # |p|^2 - 1 = 0 is a GGL position constraint, kept to IDA's Newton tolerance: the Newton
+    # test stops when the correction is below the error weights, rtol |p| + atol = 1e-6 for p.
+    # Measured 3e-9 while the velocities had the absolute tolerance (Newton iterated on for them),
+    # 8.6e-7 with the default velocity tolerances (issue 24); bound 2 (rtol |p| + atol).
+    check(drift["euler_parameter_normalisation"] < 2.02e-6, f"|p| - 1 below 2e-6: {drift['euler_parameter_normalisation']:.1e}")
     p = table(os.path.join(out, "probes.csv"))
     # The boom tip seen from the body's own frame moves only by the boom's deflection from its
     # undeformed place (the first row: eta = 0 at the start). Gravity (0.2 kg tip mass, 1.6 kg
@@ -253,6 +255,41 @@ def solver_failure(exe, scene, out):
     rows = table(os.path.join(out, "probes.csv"))["time_s"]
     check(len(rows) > 50 and rows[-1] < t_fail, f"{len(rows)} probe rows before the failure stay readable")
     check(os.path.exists(os.path.join(out, "results.h5")), "results.h5 holds the rows before the failure")
+
+
+def unstable_spin_up(exe, scene, out):
+    # prm/bench/spin_up_beam.prm (Kane, Ryan & Banerjee 1987: a 10 m beam, EI = 1.4e4 N m^2,
+    # rho A = 1.2 kg/m, spun up to 6 rad/s) with 'Geometric stiffening = false'. Without the
+    # centrifugal stiffening the in-plane bending stiffness falls as omega_1^2 - Omega^2 and the
+    # motion diverges once the speed passes the first clamped-free bending frequency
+    # omega_1 = 1.8751^2 sqrt(EI / (rho A L^4)) = 3.798 rad/s (Euler-Bernoulli), reached at
+    # t = 8.51 s of the spin-up law Omega(t) = (6/15) (t - 15/(2 pi) sin(2 pi t / 15)). The run must
+    # stop (exit 3) after that time and before its end (20 s), saying what grew and naming the
+    # setting; the rows before stay readable. (Issue 24, item 7: it used to end "completed" with
+    # the tip 1.4e7 m away.)
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    with open(scene) as f:
+        text = f.read()
+    check("set Geometric stiffening = true" in text, "the scene holds 'Geometric stiffening = true' to switch off")
+    local = os.path.join(out, "spin_up_without_stiffening.prm")
+    with open(local, "w") as f:
+        f.write(text.replace("set Geometric stiffening = true", "set Geometric stiffening = false"))
+    shutil.copy(os.path.join(os.path.dirname(scene), "spin_up_beam_body.prm"), out)
+    p = run(exe, "run", local, "-o", os.path.join(out, "run"), expect=3)
+    match = re.search(r"solver failure: the run stopped at t = ([0-9.eE+-]+) s: the elastic displacement of body "
+                      r"'beam' grew to .* more than the body's size 10 m.*'Geometric stiffening = false'", p.stderr)
+    check(match is not None, "one line: what grew, when, and the setting to change")
+    t_fail = float(match.group(1)) if match else 0.0
+    omega_1 = 1.8751 ** 2 * math.sqrt(7e10 * 2e-7 / (3000 * 4e-4 * 10 ** 4))
+    t_crit = 8.51
+    spin = 0.4 * (t_crit - 15 / (2 * math.pi) * math.sin(2 * math.pi * t_crit / 15))
+    check(abs(spin - omega_1) < 0.01, f"Omega({t_crit} s) = {spin:.4f} rad/s = omega_1 = {omega_1:.4f} rad/s")
+    check(t_crit < t_fail < 20, f"stops at t = {t_fail} s: after the speed passes omega_1 ({t_crit} s), before the end")
+    with open(os.path.join(out, "run", "summary.json")) as f:
+        check(json.load(f)["status"] == "failed", "summary.json: status failed")
+    rows = table(os.path.join(out, "run", "probes.csv"))["time_s"]
+    check(len(rows) > 1000 and rows[-1] < t_fail, f"{len(rows)} probe rows before the stop stay readable")
 
 
 def json_like_prm(exe, scene, out):
