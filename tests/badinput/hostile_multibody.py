@@ -193,6 +193,13 @@ CASES = {
         files={"s.prm": hostile_scenes.arm(modes="20", elements="40")}, args=["modes", "s.prm", "-o", "out"],
         fsize_limit=4000, regex=r"cannot write 'out/mode_shapes_001.vtu': (File too large|No space)",
         entry="Output/Directory", names_file=False),
+    # Issue 24: 'auto' or a number in the two entries chosen for the scene by default.
+    "maximum_order_seven": dict(
+        files={"s.prm": pendulum(integrator="    set Maximum order = 7")}, args=["run", "s.prm"],
+        regex=r"Multibody/Integrator/Maximum order.*is '7'; allowed: auto, 1, 2, 3, 4, 5"),
+    "velocity_tolerance_word": dict(
+        files={"s.prm": pendulum(integrator="    set Velocity tolerance = fast")}, args=["run", "s.prm"],
+        regex=r"Multibody/Integrator/Velocity tolerance.*'fast' is not a finite number \('auto' or a number"),
     # Not refused: a smooth driver that is large but bounded runs.
     "driver_smooth_runs": dict(files={"s.prm": pendulum(driver="0.5*sin(2*pi*t)")}, args=["run", "s.prm"],
                                status=0, outputs=["probes.csv", "summary.json"]),

@@ -11,7 +11,8 @@ set(FLEXTRACK_HOSTILE_MULTIBODY_CASES
   reference_axis_parallel_to_axis empty_scene_file ten_million_output_rows
   angular_velocity_1e6 json_scene_with_plain_keys_runs
   modes_write_error_in_mode_shapes bodies_200000_names
-  arm_with_a_cusp arm_crossing_itself arm_full_ring_is_read arm_tight_helix_is_read)
+  arm_with_a_cusp arm_crossing_itself arm_full_ring_is_read arm_tight_helix_is_read
+  maximum_order_seven velocity_tolerance_word)
 foreach(case ${FLEXTRACK_HOSTILE_MULTIBODY_CASES})
   add_test(NAME badinput_multibody_${case}
     COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/badinput/hostile_multibody.py $<TARGET_FILE:flextrack>
