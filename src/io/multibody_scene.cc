@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <tuple>
 
@@ -185,8 +186,29 @@ public:
                                                        std::string &description)
   {
     const std::string body_scene = base::trim(prm.get("Body scene")), body_file = base::trim(prm.get("Reduced body file"));
+    current_prefix = prefix;
     if (body_scene.empty() == body_file.empty())
       throw InputError(prefix + "Body scene", "a flexible body needs exactly one of 'Body scene' and 'Reduced body file'");
+    // Several bodies of one reduced body (a chain of equal links) share it: read, checked and
+    // reduced once (issue 24, item 6: each instance was read again, 0.16 s each).
+    std::error_code error;
+    const std::string path = relative(body_file.empty() ? body_scene : body_file);
+    const std::string key = (body_file.empty() ? "scene " : "file ") + fs::weakly_canonical(path, error).string();
+    if (const auto known = obtained.find(key); !error && known != obtained.end())
+      {
+        description = known->second.second + ", shared";
+        return known->second.first;
+      }
+    std::shared_ptr<const reduction::ReducedBody> body = read_or_reduce(body_scene, body_file, description);
+    if (!error) obtained.emplace(key, std::make_pair(body, description));
+    return body;
+  }
+
+private:
+  std::shared_ptr<const reduction::ReducedBody> read_or_reduce(const std::string &body_scene, const std::string &body_file,
+                                                               std::string &description)
+  {
+    const std::string prefix = current_prefix;
     if (!body_file.empty())
       {
         dealii::TimerOutput::Scope t(timer, "load reduced bodies");
@@ -202,15 +224,14 @@ public:
     // Prepared (MPI started) only for a reduction the cache cannot serve, which the cache knows
     // only after reading and checking its file in full: a damaged file with the right input hash
     // is reduced too (issue 23; the input hash alone had left MPI unstarted there).
-    auto obtained = cached_or_reduced_body(source, cache, log, timer, [this] {
+    auto reduced = cached_or_reduced_body(source, cache, log, timer, [this] {
       if (before_reduction && !reduction_prepared) before_reduction();
       reduction_prepared = true;
     });
-    description = "body scene " + source.file + (obtained.from_cache ? ", reduced body from the cache " : ", reduced to ") + cache;
-    return std::make_shared<reduction::ReducedBody>(std::move(obtained.body));
+    description = "body scene " + source.file + (reduced.from_cache ? ", reduced body from the cache " : ", reduced to ") + cache;
+    return std::make_shared<reduction::ReducedBody>(std::move(reduced.body));
   }
 
-private:
   std::string relative(const std::string &path) const
   {
     return fs::path(path).is_absolute() ? path : (fs::path(scene.directory) / path).string();
@@ -220,6 +241,9 @@ private:
   dealii::TimerOutput &timer;
   const std::function<void()> &before_reduction;
   bool reduction_prepared = false;
+  std::string current_prefix; ///< "Body NAME/" of the body being obtained, for messages
+  /// Reduced bodies obtained so far, by "scene PATH" or "file PATH" (canonical), with whence.
+  std::map<std::string, std::pair<std::shared_ptr<const reduction::ReducedBody>, std::string>> obtained;
 };
 
 std::unique_ptr<FloatingBody> make_body(ParameterHandler &prm, const std::string &name, const SimulationSettings &settings,

@@ -292,6 +292,71 @@ def unstable_spin_up(exe, scene, out):
     check(len(rows) > 1000 and rows[-1] < t_fail, f"{len(rows)} probe rows before the stop stay readable")
 
 
+def shared_reduced_body(exe, scene, out):
+    # Issue 24, item 6: two bodies of one body scene (prm/cantilever_body.prm, a chain of two
+    # links on revolute joints) share one reduced body, read and checked once. The reference: the
+    # same chain whose second link names a copy of the body scene (read on its own): the same
+    # reduced body, so the same probes to the last digit of the CSV.
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    for name in ("link.prm", "link_copy.prm"):
+        shutil.copy(scene, os.path.join(out, name))
+
+    def chain(second):
+        return f"""set Model = multibody
+subsection Multibody
+  set Bodies  = first, second
+  set Joints  = pin, knee
+  set Probes  = tip
+  set Gravity = 0, -9.81, 0
+  set End time        = 0.2
+  set Output interval = 0.01
+end
+subsection Body first
+  set Kind       = flexible
+  set Body scene = link.prm
+end
+subsection Body second
+  set Kind       = flexible
+  set Body scene = {second}
+  set Position   = 1, 0, 0
+end
+subsection Joint pin
+  set Kind     = revolute
+  set Body 1   = first
+  set Position = 0, 0, 0
+  set Axis     = 0, 0, 1
+end
+subsection Joint knee
+  set Kind        = revolute
+  set Body 1      = second
+  set Body 2      = first
+  set Interface 2 = tip
+  set Position    = 1, 0, 0
+  set Axis        = 0, 0, 1
+end
+subsection Probe tip
+  set Body      = second
+  set Interface = tip
+end
+"""
+    logs = {}
+    for tag, second in (("shared", "link.prm"), ("separate", "link_copy.prm")):
+        path = os.path.join(out, f"chain_{tag}.prm")
+        with open(path, "w") as f:
+            f.write(chain(second))
+        p = subprocess.run([exe, "run", path, "-o", os.path.join(out, tag)], capture_output=True, text=True, cwd=out)
+        print(p.stdout, p.stderr)
+        check(p.returncode == 0, f"the {tag} chain runs (exit {p.returncode})")
+        logs[tag] = p.stdout
+    check(re.search(r"body second: flexible, .*link\.prm.*, shared\)", logs["shared"]) is not None,
+          "the log says the second body shares the first one's reduced body")
+    check(logs["shared"].count("body scene ") - logs["shared"].count("(body scene ") == 1,
+          "the shared body scene is read once ('body scene FILE:' once)")
+    with open(os.path.join(out, "shared", "probes.csv")) as a, open(os.path.join(out, "separate", "probes.csv")) as b:
+        check(a.read() == b.read(), "probes.csv of the shared chain equals that of the chain with a copy")
+
+
 def json_like_prm(exe, scene, out):
     # tests/multibody_input/pendulum_1s.json is tests/multibody_input/pendulum_1s.prm written as
     # JSON: the same scene, so the same numbers, to the last digit of the CSV.
