@@ -18,6 +18,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -249,6 +250,10 @@ void use_one_blas_thread()
 
 int main(int argc, char **argv)
 {
+  // The log line by line also when stdout is a file or a pipe (batch runs, sweeps): block
+  // buffering held every progress line back to the end, and a killed run lost them (issue 25,
+  // item 8). std::cout writes through C's stdout (synchronised, the default).
+  std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
   use_one_blas_thread();
   int status = 0;
   try

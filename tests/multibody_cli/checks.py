@@ -357,6 +357,26 @@ end
         check(a.read() == b.read(), "probes.csv of the shared chain equals that of the chain with a copy")
 
 
+def progress_line_by_line(exe, scene, out):
+    # Issue 25, item 8: with stdout a pipe (any batch use) the progress lines came only at the end
+    # (block buffering) and a killed run lost them. The first progress line ('t = ... (10 %)')
+    # must arrive while the run is still going; the run is then killed (SIGKILL) and the lines
+    # read so far are all there is.
+    shutil.rmtree(out, ignore_errors=True)
+    p = subprocess.Popen([exe, "run", scene, "-o", out], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    lines = []
+    for line in p.stdout:
+        lines.append(line)
+        if re.match(r"\s*t = .*\(10 %\)", line):
+            break
+    still_running = p.poll() is None
+    p.kill()
+    p.wait()
+    print("".join(lines))
+    check(any("(10 %)" in line for line in lines), "the 10 % progress line was written")
+    check(still_running, "it arrived while the run was still going (line-buffered output)")
+
+
 def json_like_prm(exe, scene, out):
     # tests/multibody_input/pendulum_1s.json is tests/multibody_input/pendulum_1s.prm written as
     # JSON: the same scene, so the same numbers, to the last digit of the CSV.
