@@ -8,6 +8,7 @@
 #include <base/names.h>
 #include <io/body_export.h>
 #include <base/input_error.h>
+#include <base/interrupt.h>
 #include <base/mpi_session.h>
 #include <base/solver_error.h>
 
@@ -264,6 +265,11 @@ int main(int argc, char **argv)
     {
       std::cerr << "flextrack: error: " << e.what() << std::endl;
       status = 2;
+    }
+  catch (const flextrack::base::Interrupted &e)
+    {
+      std::cerr << "flextrack: " << e.what() << std::endl;
+      status = 128 + e.signal(); // as a shell reports a process ended by that signal
     }
   catch (const flextrack::SolverError &e)
     {

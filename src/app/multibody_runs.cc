@@ -3,6 +3,8 @@
 #include <multibody/end_stops.h>
 #include <multibody/growth_watch.h>
 #include <base/input_error.h>
+#include <base/interrupt.h>
+#include <base/text.h>
 #include <base/solver_error.h>
 
 #include <algorithm>
@@ -35,6 +37,9 @@ std::string integrate(multibody::System &system, multibody::TimeIntegrator &inte
     {
       return multibody::integrate_with_limits(system, integrator, settings.end_time, settings.output_interval,
                                               [&](const double time, const Vector<double> &state, const Vector<double> &) {
+                                                if (const int signal = base::interrupted())
+                                                  throw SolverError("interrupted by " + base::signal_name(signal) + " at t = " +
+                                                                    base::number_text(time) + " s");
                                                 const std::string grown = growth.check(time, state);
                                                 if (!grown.empty()) throw SolverError(grown);
                                                 output(time, state);

@@ -9,6 +9,7 @@
 #include <app/commands.h>
 #include <app/multibody_runs.h>
 #include <base/input_error.h>
+#include <base/interrupt.h>
 #include <base/solver_error.h>
 #include <base/text.h>
 #include <io/animation_writer.h>
@@ -237,6 +238,8 @@ int run_command(const Options &options, const io::SceneFile &file)
 
   ProgressReport progress(settings.start_time, settings.end_time);
   std::string failure;
+  // Ctrl-C / SIGTERM stop the integration at its next output row; the rows so far are written.
+  base::watch_interrupts();
   {
     TimerOutput::Scope t(timer, "time integration");
     failure = integrate(system, integrator, settings, [&](const double time, const Vector<double> &state) {
@@ -250,6 +253,8 @@ int run_command(const Options &options, const io::SceneFile &file)
   progress.finish();
 
   std::optional<io::PathDeviation> deviation;
+  const int signal = base::interrupted();
+  base::stop_watching_interrupts();
   std::string reference_failure;
   if (settings.rigid_reference && failure.empty())
     {
@@ -282,7 +287,7 @@ int run_command(const Options &options, const io::SceneFile &file)
     summary.add("program", "flextrack " FLEXTRACK_VERSION)
       .add("command", "run")
       .add("parameter_file", options.file)
-      .add("status", failure.empty() ? "completed" : "failed")
+      .add("status", signal ? "interrupted" : failure.empty() ? "completed" : "failed")
       .add("failure", failure)
       .add("start_time_s", settings.start_time)
       .add("end_time_s", settings.end_time)
@@ -329,9 +334,10 @@ int run_command(const Options &options, const io::SceneFile &file)
             << recorder.max_position_residual << ", max ||p|-1| " << recorder.max_normalisation_drift
             << ", energy balance " << recorder.max_balance_error << "\n";
   print_timings(clock);
-  if (!failure.empty())
-    throw SolverError(failure + ". The " + std::to_string(recorder.n_rows()) + " output rows up to t = " +
-                      std::to_string(recorder.last_time()) + " s are in " + out.path() + "/");
+  const std::string rows_kept = ". The " + std::to_string(recorder.n_rows()) + " output rows up to t = " +
+                                std::to_string(recorder.last_time()) + " s are in " + out.path() + "/";
+  if (signal) throw base::Interrupted(signal, failure + rows_kept);
+  if (!failure.empty()) throw SolverError(failure + rows_kept);
   std::cout << "  results in " << out.path() << "/ (" << (scene.probes.empty() ? "" : "probes.csv, ")
             << "monitors.csv, results.h5, summary.json, parameters_used.prm"
             << (animation ? ", animation.pvd" : "") << (deviation ? ", deviation.csv" : "")

@@ -377,6 +377,34 @@ def progress_line_by_line(exe, scene, out):
     check(still_running, "it arrived while the run was still going (line-buffered output)")
 
 
+def interrupted_run_writes_its_rows(exe, scene, out):
+    # Issue 25, item 9: Ctrl-C or SIGTERM left only '*.writing-PID' files. Now the run stops at its
+    # next output row and writes what it has: results.h5, probes.csv, summary.json with status
+    # "interrupted"; the exit status is 128 + the signal (130 for SIGINT, 143 for SIGTERM), as a
+    # shell reports a process ended by it.
+    import signal as signals
+    for sig, status in ((signals.SIGINT, 130), (signals.SIGTERM, 143)):
+        folder = f"{out}_{sig.name}"
+        shutil.rmtree(folder, ignore_errors=True)
+        p = subprocess.Popen([exe, "run", scene, "-o", folder], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        for line in p.stdout:
+            if re.match(r"\s*t = .*\(10 %\)", line):
+                break
+        p.send_signal(sig)
+        rest, err = p.communicate()
+        print(rest, err)
+        check(p.returncode == status, f"{sig.name}: exit status {p.returncode}, expected {status}")
+        check(re.search(rf"interrupted by {sig.name} at t = .* output rows up to t = ", err) is not None,
+              f"{sig.name}: one line says where the run stopped and where its rows are")
+        with open(os.path.join(folder, "summary.json")) as f:
+            check(json.load(f)["status"] == "interrupted", f"{sig.name}: summary.json: status interrupted")
+        rows = table(os.path.join(folder, "probes.csv"))["time_s"]
+        check(len(rows) > 5, f"{sig.name}: {len(rows)} probe rows written")
+        check(os.path.getsize(os.path.join(folder, "results.h5")) > 0, f"{sig.name}: results.h5 written")
+        left = [f for f in os.listdir(folder) if ".writing" in f]
+        check(not left, f"{sig.name}: no half-written files left: {left}")
+
+
 def json_like_prm(exe, scene, out):
     # tests/multibody_input/pendulum_1s.json is tests/multibody_input/pendulum_1s.prm written as
     # JSON: the same scene, so the same numbers, to the last digit of the CSV.
