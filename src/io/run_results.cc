@@ -107,20 +107,19 @@ void RunRecorder::record(const double t, const Vector<double> &y, const multibod
 
 void RunRecorder::record_reactions(const double t, const Vector<double> &y)
 {
-  // Force and torque that each joint exerts on its first body [N, N m], global; the multipliers
-  // of dropped (redundant) equations are zero, so those reactions are one of many possible.
+  // Force and torque that each joint exerts on its first body at its marker [N, N m], global; the
+  // multipliers of dropped (redundant) equations are zero, so those reactions are one of many
+  // possible. A joint with own coordinates (a track contact's arc length s) is evaluated at them:
+  // its rows' gradients, and so its reaction, depend on where the contact is.
   const unsigned int l0 = system.n_q() + system.n_v();
   for (unsigned int j = 0; j < system.n_joints(); ++j)
     {
       const auto &joint = system.joint(j);
+      std::vector<double> lambda(joint.n_equations(), 0.0);
+      const auto &active = system.active_equations(j);
+      for (unsigned int r = 0; r < active.size(); ++r) lambda[active[r]] = y[l0 + system.multiplier_offset(j) + r];
       multibody::Vector3 force, torque;
-      if (joint.n_own_coordinates() == 0)
-        {
-          std::vector<double> lambda(joint.n_equations(), 0.0);
-          const auto &active = system.active_equations(j);
-          for (unsigned int r = 0; r < active.size(); ++r) lambda[active[r]] = y[l0 + system.multiplier_offset(j) + r];
-          joint.reaction(system.joint_q(j, y), nullptr, t, lambda.data(), force, torque);
-        }
+      joint.reaction(system.joint_q(j, y), system.own_q_of(j, y), t, lambda.data(), force, torque);
       for (unsigned int a = 0; a < 3; ++a) reactions.push_back(force[a]);
       for (unsigned int a = 0; a < 3; ++a) reactions.push_back(torque[a]);
     }

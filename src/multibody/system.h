@@ -166,6 +166,12 @@ public:
   const double *q_of(unsigned int b, const dealii::Vector<double> &y) const { return bodies[b].body->n_q() ? y.begin() + bodies[b].q : nullptr; }
   const double *v_of(unsigned int b, const dealii::Vector<double> &y) const { return bodies[b].body->n_v() ? y.begin() + nq + bodies[b].v : nullptr; }
   std::vector<const double *> joint_q(unsigned int j, const dealii::Vector<double> &y) const;
+  /// Joint @p j's own coordinates in y (a track contact's arc length s; a sleeve's s_II, s_I), as
+  /// Joint::evaluate() and Joint::reaction() take them; nullptr if it has none.
+  const double *own_q_of(unsigned int j, const dealii::Vector<double> &y) const
+  {
+    return joints[j].joint->n_own_coordinates() ? y.begin() + joints[j].own_q : nullptr;
+  }
   std::vector<const double *> force_q(unsigned int f, const dealii::Vector<double> &y) const;
   std::vector<const double *> force_v(unsigned int f, const dealii::Vector<double> &y) const;
   const Force &force(unsigned int f) const { return *forces[f].force; }

@@ -9,7 +9,8 @@ turned by a motor under gravity; the driven double-arm sleeve). Each is run
     system, the whole process: start-up, cached reduced bodies loaded) against the simulated time;
     target: at least 1 simulated second per CPU second;
   - with the settings FlexTrack used before issue 24 (BDF order up to 5, velocities at the
-    absolute tolerance), once, stopped after 600 s: the baseline the defaults replace;
+    absolute tolerance), once, stopped after 600 s: the baseline the defaults replace ('failed'
+    in the table when it stops early or does not reach the end within 'Maximum steps');
   - as the reference: BDF2, rtol 1e-9, atol 1e-11, velocity tolerance 1e-8 (every vibration above
     1e-11 resolved); and once more at rtol 1e-8, atol 1e-10, velocity tolerance 1e-7, whose
     difference from the reference estimates the reference's own error.
@@ -135,7 +136,8 @@ def main():
             # The settings from before issue 24 took 200 s and more on the sleeve: stopped at 600 s.
             limit = BEFORE_LIMIT if tag == "before" else None
             status, seconds = timed(exe, os.path.join(bench, f"{key}_{tag}.prm"), out, os.path.join(work, f"{key}_{tag}.time"), limit)
-            if status is None:
+            if status is None or (status != 0 and tag == "before"):
+                # The settings of before may not reach the end (1e6 steps): reported, not fatal.
                 results[tag] = (None, None)
                 continue
             if status != 0:
@@ -157,7 +159,7 @@ def main():
           f"{'before: CPU':>11} {'error':>9} | {'ref. error':>10}")
     for r in rows:
         print(f"{r['scene']:24} {r['end']:7.2f} {r['cpu']:8.2f} {r['end'] / r['cpu']:8.2f} {r['error']:9.2e} {r['steps']:7d} | "
-              + (f"{r['before_cpu']:11.2f} {r['before_error']:9.2e}" if r["before_cpu"] else f"{'> ' + str(BEFORE_LIMIT) + ' wall':>11} {'-':>9}")
+              + (f"{r['before_cpu']:11.2f} {r['before_error']:9.2e}" if r["before_cpu"] else f"{'failed':>11} {'-':>9}")
               + f" | {r['reference_error']:10.2e}")
     print("error: max |r - r_ref| over the path's extent; CPU: median of the default runs, user + system, whole process")
     for r in rows:

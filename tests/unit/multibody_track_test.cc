@@ -1,11 +1,15 @@
 // Contacts sliding along tracks (issue 10, acceptance): rigid tracks against closed forms (a bead
 // on a helix under gravity, a bead on a spinning straight rod), the track Jacobian against central
 // differences, the end of a track as an event, and a moving force crossing a simply supported
-// flexible track against Fryba's series solution.
+// flexible track against Fryba's series solution; the reactions of track joints as results.h5
+// holds them (io::RunRecorder) against closed forms and against ordinary joints (issue 25).
 #include "multibody_test_helpers.h"
 
 #include <fem/body_model.h>
 #include <io/body_scene.h>
+#include <io/hdf5_file.h>
+#include <io/output_folder.h>
+#include <io/run_results.h>
 #include <multibody/force.h>
 #include <multibody/marker.h>
 #include <multibody/monitors.h>
@@ -20,9 +24,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <random>
+
+#include <unistd.h>
 
 using namespace flextrack;
 using namespace flextrack::multibody;
@@ -100,7 +107,7 @@ Vector3 reaction_force(const System &s, const double t, const Vector<double> &y)
 {
   Vector3 F, T;
   const double *lambda = y.begin() + s.n_q() + s.n_v() + s.multiplier_offset(0);
-  s.joint(0).reaction(s.joint_q(0, y), y.begin() + s.n_q() - 1, t, lambda, F, T);
+  s.joint(0).reaction(s.joint_q(0, y), s.own_q_of(0, y), t, lambda, F, T);
   return F;
 }
 } // namespace
@@ -586,4 +593,245 @@ TEST(MultibodyTrack, end_stop_without_restitution_keeps_the_contact_on_the_curve
   EXPECT_NEAR(first_at_end, 0.45, 1e-8) << "the impact time (closed form 0.45 s)";
   EXPECT_LT(worst_beyond, 1e-8) << "|s - L| after the impact [m]";
   EXPECT_NEAR(s.impact_losses(), 2.0, 1e-8) << "the plastic impact takes m v^2 / 2 = 2 J";
+}
+
+namespace
+{
+/// results.h5 of a run recorded by io::RunRecorder (as 'flextrack run' records it): /time and
+/// each joint's /reactions/NAME/force and /torque (rows of 3, global [N], [N m]).
+struct RecordedReactions
+{
+  std::vector<double> time;
+  std::map<std::string, std::vector<double>> force, torque;
+  Vector3 at(const std::vector<double> &rows, const unsigned int r) const
+  {
+    return Vector3({rows[3 * r], rows[3 * r + 1], rows[3 * r + 2]});
+  }
+  Vector3 force_of(const std::string &joint, const unsigned int r) const { return at(force.at(joint), r); }
+  Vector3 torque_of(const std::string &joint, const unsigned int r) const { return at(torque.at(joint), r); }
+};
+
+/// Runs the finalised @p s with IDA (rtol 1e-10) from consistent initial conditions at t = 0 to
+/// @p t_end, an output row every @p interval (and one at the start), through io::RunRecorder into
+/// a temporary folder, and reads its results.h5 back.
+RecordedReactions record_reactions(System &s, const double t_end, const double interval, const std::string &name)
+{
+  Vector<double> y, yp;
+  consistent_initial_conditions(s, 0, y, yp);
+  EXPECT_TRUE(s.dropped_equations().empty()) << "no redundant equation: every reaction is unique";
+  IdaIntegrator ida(s, tight(1e-10, 1e-12));
+  ida.initialize(0, y, yp);
+  stop_at_track_ends(ida, s);
+  const std::filesystem::path folder =
+    std::filesystem::temp_directory_path() / ("flextrack_track_reactions_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(folder);
+  {
+    io::OutputFolder out(folder.string());
+    const std::vector<std::unique_ptr<Probe>> probes;
+    io::RunRecorder recorder(s, probes, out);
+    recorder.record(0, y, MonitorValues(), 0.0);
+    const double t = ida.integrate(t_end, interval, [&](const double time, const Vector<double> &yy, const Vector<double> &) {
+      recorder.record(time, yy, MonitorValues(), 0.0);
+    });
+    EXPECT_NEAR(t, t_end, 1e-12) << "the run reaches its end time (no end of a track on the way)";
+    recorder.write_hdf5(out);
+    out.commit();
+  }
+  RecordedReactions r;
+  {
+    io::Hdf5File f((folder / "results.h5").string(), io::Hdf5File::Mode::read);
+    const hsize_t n = f.shape("/time")[0];
+    r.time = f.read_doubles("/time", {n});
+    for (unsigned int j = 0; j < s.n_joints(); ++j)
+      {
+        const std::string g = "/reactions/" + s.joint(j).name();
+        r.force[s.joint(j).name()] = f.read_doubles(g + "/force", {n, 3});
+        r.torque[s.joint(j).name()] = f.read_doubles(g + "/torque", {n, 3});
+      }
+  }
+  std::filesystem::remove_all(folder);
+  return r;
+}
+
+/// Largest |a - b| component.
+double difference(const Vector3 &a, const Vector3 &b)
+{
+  return std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
+}
+} // namespace
+
+TEST(MultibodyTrack, reactions_of_track_joints_on_an_inclined_rod_in_results_match_closed_forms)
+{
+  // Issue 25, item 1: results.h5's /reactions/JOINT/force, /torque of track joints were zero.
+  // A rigid straight rod on the ground, inclined at alpha = 30 degrees in the xz plane (tangent
+  // t = (cos a, 0, sin a), upward normal n = (-sin a, 0, cos a)), gravity g = 9.81 m/s^2 along -z,
+  // frictionless; three sliders of mass m = 2 kg on it, and a fourth on an ordinary prismatic joint:
+  //   bead     point_on_track, sliding freely (s'' = -g sin a):  F = m g cos a n,  T = 0;
+  //   pushed   prismatic_on_track, tangential drive force F0 = 4 N, centre of mass d = 0.2 m off the
+  //            contact along n (s'' = F0 / m - g sin a):  F = F0 t + m g cos a n,  T = d n x F = d F0 y;
+  //   driven   prismatic_on_track, s = s0 + a_d t^2 / 2, a_d = 1.5 m/s^2, centre of mass as above:
+  //            F = m (a_d + g sin a) t + m g cos a n,  T = d m (a_d + g sin a) y;
+  //   twin     the same body and motion on a displacement-driven 'prismatic' joint (an ordinary
+  //            joint): the same F and T, so track and ordinary joints share one convention
+  //            (force and torque on body 1, at its marker, global).
+  // F and T at every output row (0 to 0.5 s every 0.05 s) against these closed forms; tolerance
+  // 1e-8 of m g = 19.62 N (forces) and of m g d (torques) (measured: round-off, 2e-14 N and 4e-15 N m;
+  // on a straight track the motion is exactly quadratic in t).
+  const double g = 9.81, alpha = M_PI / 6, m = 2.0, d = 0.2, F0 = 4.0, a_d = 1.5, s0 = 1.0;
+  const Vector3 t({std::cos(alpha), 0, std::sin(alpha)}), n({-std::sin(alpha), 0, std::cos(alpha)}), ey({0, 1, 0});
+  System s(Vector3({0, 0, -g}));
+  const auto curve = line(Vector3(), 3.0 * t);
+  const auto frame = frame_of(curve, geometry::SectionFrame::Kind::fixed_vector, ey);
+  const Vector3 contact = s0 * t;
+  const Matrix3 J = diagonal(1e-3, 1e-3, 1e-3);
+  const Body &bead_body = add_rigid(s, "bead", m, J, contact);
+  add_track_joint(s, "bead", bead_body, s.ground(), curve, frame, nullptr, s0, 0.0, bead);
+  TrackSliding push;
+  push.drive = TrackDrive::force;
+  push.law = std::make_shared<geometry::Expression>("4", "t");
+  const Body &pushed = add_rigid(s, "pushed", m, J, contact + d * n);
+  add_track_joint(s, "pushed", pushed, s.ground(), curve, frame, nullptr, s0, 0.0, slider_mask, push);
+  TrackSliding drive;
+  drive.drive = TrackDrive::motion;
+  drive.law = std::make_shared<geometry::Expression>("1 + 0.75*t*t", "t");
+  const Body &driven = add_rigid(s, "driven", m, J, contact + d * n);
+  add_track_joint(s, "driven", driven, s.ground(), curve, frame, nullptr, s0, 0.0, slider_mask, drive);
+  const Vector3 twin_contact = contact + Vector3({0, 1, 0}); // a parallel rail 1 m away along y
+  add_rigid(s, "twin", m, J, twin_contact + d * n);
+  add_joint(s, "prismatic", "twin", "twin", "ground", twin_contact, t, "0.75*t*t", ey);
+  s.finalize();
+  const RecordedReactions r = record_reactions(s, 0.5, 0.05, "incline");
+  ASSERT_EQ(r.time.size(), 11u);
+
+  const Vector3 F_bead = m * g * std::cos(alpha) * n, F_pushed = F0 * t + m * g * std::cos(alpha) * n,
+                F_driven = m * (a_d + g * std::sin(alpha)) * t + m * g * std::cos(alpha) * n;
+  const Vector3 T_pushed = d * F0 * ey, T_driven = d * m * (a_d + g * std::sin(alpha)) * ey;
+  double worst_force = 0, worst_torque = 0;
+  for (unsigned int i = 0; i < r.time.size(); ++i)
+    {
+      const std::string at = "t = " + std::to_string(r.time[i]) + " s";
+      worst_force = std::max({worst_force, difference(r.force_of("bead", i), F_bead),
+                              difference(r.force_of("pushed", i), F_pushed), difference(r.force_of("driven", i), F_driven),
+                              difference(r.force_of("twin", i), F_driven)});
+      worst_torque = std::max({worst_torque, difference(r.torque_of("bead", i), Vector3()),
+                               difference(r.torque_of("pushed", i), T_pushed), difference(r.torque_of("driven", i), T_driven),
+                               difference(r.torque_of("twin", i), T_driven)});
+      // Normal and tangential parts: m g cos a = 16.99 N on each; F0 = 4 N and m (a_d + g sin a) = 12.81 N along t.
+      EXPECT_NEAR(r.force_of("bead", i) * n, m * g * std::cos(alpha), 1e-8 * m * g) << at;
+      EXPECT_NEAR(r.force_of("bead", i) * t, 0.0, 1e-8 * m * g) << at;
+      EXPECT_NEAR(r.force_of("pushed", i) * t, F0, 1e-8 * m * g) << at;
+      EXPECT_NEAR(r.force_of("driven", i) * t, m * (a_d + g * std::sin(alpha)), 1e-8 * m * g) << at;
+      EXPECT_LT(difference(r.force_of("driven", i), r.force_of("twin", i)), 1e-8 * m * g)
+        << at << ": track and prismatic joint";
+      EXPECT_LT(difference(r.torque_of("driven", i), r.torque_of("twin", i)), 1e-8 * m * g * d) << at;
+    }
+  std::cout << "inclined rod: largest |F - closed form| " << worst_force << " N of m g = " << m * g
+            << " N, |T - closed form| " << worst_torque << " N m of m g d = " << m * g * d << " N m; driven F = "
+            << r.force_of("driven", 10) << " N, T = " << r.torque_of("driven", 10) << " N m" << std::endl;
+  EXPECT_LT(worst_force, 1e-8 * m * g);
+  EXPECT_LT(worst_torque, 1e-8 * m * g * d);
+}
+
+TEST(MultibodyTrack, reaction_of_a_bead_driven_round_a_circular_track_is_m_v2_over_r)
+{
+  // A bead (m = 0.5 kg) driven at v = 1.5 m/s (s = 0.2 + v t) along a rigid horizontal circle of
+  // radius R = 0.8 m about the origin, gravity g = 9.81 m/s^2 along -z: the track pushes it with
+  //   F = -m v^2 / R r^ + m g z^     (m v^2 / R = 1.40625 N towards the centre, r^ = r / |r|)
+  // and no torque (a point contact). The same motion on an ordinary revolute joint (a bob of the
+  // same mass with its centre of mass at R from a pivot at the origin, driven at v / R) gets the same
+  // F at its marker, the pivot, and T = R r^ x F = -m g R t^ there (t^ = z^ x r^). Every output
+  // row, 0 to 1 s every 0.1 s; tolerance 1e-6 of m g = 4.905 N (forces; 3.5e-6 of m v^2 / R), of
+  // m g R (torques), as the other closed forms of track contacts here: on a curved track the
+  // multipliers carry the noise of IDA's Newton iterations (they are excluded from its error test;
+  // measured up to 7.1e-7 N on the bead, 2e-8 N on the bob; 2.5e-11 N at t = 0, a direct solve).
+  const double g = 9.81, m = 0.5, v = 1.5, R = 0.8, s0 = 0.2, p0 = s0 / R;
+  System s(Vector3({0, 0, -g}));
+  const auto circle = helix(R, 0.0, 0.5); // (R cos p, R sin p, 0), 0 <= p <= pi
+  const Vector3 r0({R * std::cos(p0), R * std::sin(p0), 0}), t0({-std::sin(p0), std::cos(p0), 0});
+  const Body &ball = add_rigid(s, "bead", m, diagonal(1e-4, 1e-4, 1e-4), r0, {{1, 0, 0, 0}}, v * t0);
+  TrackSliding drive;
+  drive.drive = TrackDrive::motion;
+  drive.law = std::make_shared<geometry::Expression>("0.2 + 1.5*t", "t");
+  add_track_joint(s, "ring", ball, s.ground(), circle,
+                  frame_of(circle, geometry::SectionFrame::Kind::fixed_vector, Vector3({0, 0, 1})), nullptr, s0, v, bead, drive);
+  add_rigid(s, "bob", m, diagonal(1e-4, 1e-4, 1e-4), r0, {{1, 0, 0, 0}}, v * t0, Vector3({0, 0, v / R}));
+  add_joint(s, "revolute", "pivot", "bob", "ground", Vector3(), Vector3({0, 0, 1}), "1.875*t");
+  s.finalize();
+  const RecordedReactions r = record_reactions(s, 1.0, 0.1, "circle");
+  ASSERT_EQ(r.time.size(), 11u);
+  double worst_force = 0, worst_torque = 0, worst_radial = 0;
+  for (unsigned int i = 0; i < r.time.size(); ++i)
+    {
+      const double p = p0 + v * r.time[i] / R;
+      const Vector3 radial({std::cos(p), std::sin(p), 0}), tangent({-std::sin(p), std::cos(p), 0}), ez({0, 0, 1});
+      const Vector3 F = -m * v * v / R * radial + m * g * ez, T_pivot = -m * g * R * tangent;
+      worst_force = std::max({worst_force, difference(r.force_of("ring", i), F), difference(r.force_of("pivot", i), F)});
+      worst_torque = std::max(
+        {worst_torque, difference(r.torque_of("ring", i), Vector3()), difference(r.torque_of("pivot", i), T_pivot)});
+      worst_radial = std::max(worst_radial, std::abs(-(r.force_of("ring", i) * radial) - m * v * v / R));
+      EXPECT_LT(difference(r.force_of("ring", i), r.force_of("pivot", i)), 1e-6 * m * g)
+        << "t = " << r.time[i] << " s: track and revolute joint";
+    }
+  std::cout << "circle: m v^2 / R = " << m * v * v / R << " N, largest |radial reaction - m v^2 / R| " << worst_radial
+            << " N, |F - closed form| " << worst_force << " N, |T - closed form| " << worst_torque << " N m" << std::endl;
+  EXPECT_LT(worst_radial, 1e-6 * m * g);
+  EXPECT_LT(worst_force, 1e-6 * m * g);
+  EXPECT_LT(worst_torque, 1e-6 * m * g * R);
+}
+
+TEST(MultibodyTrack, reaction_of_a_double_arm_sleeve_in_results_matches_the_closed_form)
+{
+  // A double-arm sleeve: a vertical rigid rod on the ground (arm I, z from 0 to 2 m) and a
+  // horizontal rigid beam (body 1, m = 1.5 kg, its arm II along its x axis from -1 to 1 m about its
+  // centre of mass) held at right angles by a sleeve; the sleeve is driven up arm I,
+  // s_I = 1 + a t^2 / 2 (a = 2 m/s^2), the beam slides freely through it (s_II = 0.7 m: the sleeve
+  // d = 0.3 m from the centre of mass, on the -x side), gravity g = 9.81 m/s^2 along -z. On the beam,
+  // at the sleeve: F = m (g + a) z^ = 17.715 N,  T = d x^ x F = -d m (g + a) y^ = -5.3145 N m.
+  // Every output row, 0 to 0.5 s every 0.05 s; tolerance 1e-8 of m g (force), of m g d (torque)
+  // (measured: round-off, 2e-28 N and 9e-16 N m).
+  const double g = 9.81, m = 1.5, d = 0.3, a = 2.0;
+  System s(Vector3({0, 0, -g}));
+  const Body &beam = add_rigid(s, "beam", m, diagonal(0.01, 0.2, 0.2), Vector3({d, 0, 1}));
+  const auto arm_2 = line(Vector3({-1, 0, 0}), Vector3({1, 0, 0})), arm_1 = line(Vector3(), Vector3({0, 0, 2}));
+  const double s_2 = 1 - d, s_1 = 1;
+  auto track_1 = std::make_unique<TrackMarker>(beam, "sleeve_on_beam", arm_2,
+                                               frame_of(arm_2, geometry::SectionFrame::Kind::fixed_vector, Vector3({0, 0, 1})),
+                                               nullptr, s_2, 0.0);
+  auto track_2 = std::make_unique<TrackMarker>(s.ground(), "sleeve_on_post", arm_1,
+                                               frame_of(arm_1, geometry::SectionFrame::Kind::fixed_vector, Vector3({1, 0, 0})),
+                                               nullptr, s_1, 0.0);
+  // Arm II held at its initial angle to arm I (as joint_table.cc's make_sleeve does).
+  Matrix3 axes[2];
+  const Marker *tracks[2] = {track_1.get(), track_2.get()};
+  const double s_start[2] = {s_2, s_1};
+  for (unsigned int i = 0; i < 2; ++i)
+    {
+      std::vector<double> q(tracks[i]->body().n_q()), v(tracks[i]->body().n_v());
+      tracks[i]->body().initial_coordinates(q.data(), v.data());
+      MarkerKinematics k;
+      tracks[i]->evaluate(q.data(), &s_start[i], k);
+      ASSERT_LT((k.position - Vector3({0, 0, 1})).norm(), 1e-14) << "the arms meet at (0, 0, 1)";
+      for (unsigned int c = 0; c < 3; ++c)
+        for (unsigned int b = 0; b < 3; ++b) axes[i][b][c] = k.axes[c][b];
+    }
+  track_1->set_axes_offset(transpose(axes[0]) * axes[1]);
+  TrackSliding free_1, drive_2;
+  drive_2.drive = TrackDrive::motion;
+  drive_2.law = std::make_shared<geometry::Expression>("1 + t*t", "t");
+  s.add_joint(std::make_unique<TrackJoint>("sleeve", std::move(track_1), std::move(track_2), slider_mask, free_1, drive_2));
+  s.finalize();
+  const RecordedReactions r = record_reactions(s, 0.5, 0.05, "sleeve");
+  ASSERT_EQ(r.time.size(), 11u);
+  const Vector3 F({0, 0, m * (g + a)}), T({0, -d * m * (g + a), 0});
+  double worst_force = 0, worst_torque = 0;
+  for (unsigned int i = 0; i < r.time.size(); ++i)
+    {
+      worst_force = std::max(worst_force, difference(r.force_of("sleeve", i), F));
+      worst_torque = std::max(worst_torque, difference(r.torque_of("sleeve", i), T));
+    }
+  std::cout << "sleeve: F = " << r.force_of("sleeve", 10) << " N, T = " << r.torque_of("sleeve", 10)
+            << " N m; largest |F - closed form| " << worst_force << " N, |T - closed form| " << worst_torque << " N m"
+            << std::endl;
+  EXPECT_LT(worst_force, 1e-8 * m * g);
+  EXPECT_LT(worst_torque, 1e-8 * m * g * d);
 }
