@@ -27,6 +27,8 @@ flextrack_multibody_check(run_progress_reaches_a_pipe_line_by_line progress_line
                           ${CMAKE_SOURCE_DIR}/prm/slider_crank.prm)
 flextrack_multibody_check(run_interrupted_by_a_signal_writes_its_rows interrupted_run_writes_its_rows
                           ${CMAKE_SOURCE_DIR}/prm/slider_crank.prm)
+flextrack_multibody_check(reduce_arm_body_without_solid_line_has_no_solid arm_body_without_solid_line
+                          ${CMAKE_SOURCE_DIR}/prm/cantilever_body.prm)
 flextrack_multibody_check(run_json_scene_reads_like_prm json_like_prm ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_1s.json)
 set_tests_properties(cli_run_flexible_pendulum_balances_energy PROPERTIES TIMEOUT 600)
 # Multibody/Initial state = static equilibrium: a cantilever sagging under its weight.

@@ -356,7 +356,7 @@ BodyStaticScene read_body_static_scene(const io::SceneFile &file, ParameterHandl
   fem::StaticSettings::declare_parameters(prm);
   fem::LoadCase::declare_parameters(prm, fem::StaticSettings::parse_load_case_list(*file.lists));
   file.parse(prm, false);
-  scene.body = fem::Body::parse_parameters(prm, file.directory);
+  scene.body = fem::Body::parse_parameters(prm, file.directory, file.has_subsection("Solid"));
   scene.reduction = reduction::ReductionSettings::parse_parameters(prm);
   scene.output = io::OutputSettings::parse_parameters(prm);
   scene.statics = fem::StaticSettings::parse_parameters(prm, nullptr, nullptr, &scene.body);

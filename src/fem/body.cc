@@ -117,8 +117,11 @@ void Body::declare_parameters(ParameterHandler &prm, const std::vector<std::stri
 {
   declare_arm_list(prm);
   prm.enter_subsection("Body");
-  prm.declare_entry("Solid", "true", dealii::Patterns::Bool(),
-                    "Whether the body has a solid part, described in 'subsection Solid'.");
+  prm.declare_entry("Solid", "auto", dealii::Patterns::Selection("auto|true|false"),
+                    "Whether the body has a solid part, described in 'subsection Solid' [-]: 'auto' (the "
+                    "default): a solid part when the file has a 'subsection Solid' or lists no arms, none for a "
+                    "body of arms only (a body of arms used to get the default solid, a 1 x 0.1 x 0.1 m steel "
+                    "box of 78.5 kg tied to nothing); 'true' or 'false' say it.");
   prm.declare_entry("Ties", "", dealii::Patterns::Anything(),
                     "Arm roots (s = 0) tied to the solid, separated by ';': 'ARM: KIND, REGION' with KIND "
                     "'rigid' (the region moves rigidly with the arm root) or 'distributing' (the arm root "
@@ -144,12 +147,13 @@ void Body::declare_parameters(ParameterHandler &prm, const std::vector<std::stri
   for (const auto &name : arm_names) Arm::declare_parameters(prm, "Arm " + name);
 }
 
-Body Body::parse_parameters(ParameterHandler &prm, const std::string &directory)
+Body Body::parse_parameters(ParameterHandler &prm, const std::string &directory, const bool solid_described)
 {
   Body body;
   body.arm_names = parse_arm_list(prm);
   prm.enter_subsection("Body");
-  const bool has_solid = prm.get_bool("Solid");
+  const std::string solid = prm.get("Solid");
+  const bool has_solid = solid == "auto" ? solid_described || body.arm_names.empty() : solid == "true";
   const std::string ties = prm.get("Ties"), interfaces = prm.get("Interfaces"), masses = prm.get("Point masses"),
                     outputs = prm.get("Output points");
   prm.leave_subsection();

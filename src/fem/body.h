@@ -84,6 +84,7 @@ struct Body
   static std::vector<std::string> parse_arm_list(dealii::ParameterHandler &prm);
   /// Declares Body, Solid and "Arm NAME" for each of @p arm_names.
   static void declare_parameters(dealii::ParameterHandler &prm, const std::vector<std::string> &arm_names);
-  static Body parse_parameters(dealii::ParameterHandler &prm, const std::string &directory);
+  /// @p solid_described: the file has a 'subsection Solid' ('Solid = auto' then means a solid part).
+  static Body parse_parameters(dealii::ParameterHandler &prm, const std::string &directory, bool solid_described = true);
 };
 } // namespace flextrack::fem

@@ -94,7 +94,7 @@ BodyScene read_body_scene(const SceneFile &file)
       fem::LoadCase::declare_parameters(*scene.parameters, fem::StaticSettings::parse_load_case_list(*file.lists));
       file.parse(*scene.parameters, false);
       auto &prm = *scene.parameters;
-      scene.body = fem::Body::parse_parameters(prm, file.directory);
+      scene.body = fem::Body::parse_parameters(prm, file.directory, file.has_subsection("Solid"));
       scene.reduction = reduction::ReductionSettings::parse_parameters(prm);
       scene.output = OutputSettings::parse_parameters(prm);
       scene.input_hash = hash_inputs(prm, file.directory);

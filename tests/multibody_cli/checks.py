@@ -405,6 +405,25 @@ def interrupted_run_writes_its_rows(exe, scene, out):
         check(not left, f"{sig.name}: no half-written files left: {left}")
 
 
+def arm_body_without_solid_line(exe, scene, out):
+    # Issue 25, item 2: a body scene with arms and no 'Body/Solid' line got the default solid (a
+    # 1 x 0.1 x 0.1 m steel box, 78.5 kg, tied to nothing). 'Solid = auto' now gives such a body
+    # no solid part. prm/cantilever_body.prm without its 'set Solid = false' line must reduce to
+    # the mass of its beam alone: rho A L = 7800 kg/m^3 x 1e-4 m^2 x 1 m = 0.78 kg (to 1e-9).
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    with open(scene) as f:
+        text = f.read()
+    check(re.search(r"^\s*set Solid\s*=\s*false", text, re.M) is not None, "the body scene says 'Solid = false'")
+    local = os.path.join(out, "beam_body.prm")
+    with open(local, "w") as f:
+        f.write(re.sub(r"^\s*set Solid\s*=\s*false.*$", "", text, flags=re.M))
+    run(exe, "reduce", local, "-o", os.path.join(out, "reduced"))
+    with open(os.path.join(out, "reduced", "summary.json")) as f:
+        mass = json.load(f)["mass_kg"]
+    check(abs(mass - 0.78) < 1e-9, f"reduced mass {mass} kg = rho A L = 0.78 kg (no solid part)")
+
+
 def json_like_prm(exe, scene, out):
     # tests/multibody_input/pendulum_1s.json is tests/multibody_input/pendulum_1s.prm written as
     # JSON: the same scene, so the same numbers, to the last digit of the CSV.
