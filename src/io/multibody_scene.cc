@@ -186,7 +186,6 @@ public:
                                                        std::string &description)
   {
     const std::string body_scene = base::trim(prm.get("Body scene")), body_file = base::trim(prm.get("Reduced body file"));
-    current_prefix = prefix;
     if (body_scene.empty() == body_file.empty())
       throw InputError(prefix + "Body scene", "a flexible body needs exactly one of 'Body scene' and 'Reduced body file'");
     // Several bodies of one reduced body (a chain of equal links) share it: read, checked and
@@ -199,16 +198,15 @@ public:
         description = known->second.second + ", shared";
         return known->second.first;
       }
-    std::shared_ptr<const reduction::ReducedBody> body = read_or_reduce(body_scene, body_file, description);
+    std::shared_ptr<const reduction::ReducedBody> body = read_or_reduce(prefix, body_scene, body_file, description);
     if (!error) obtained.emplace(key, std::make_pair(body, description));
     return body;
   }
 
 private:
-  std::shared_ptr<const reduction::ReducedBody> read_or_reduce(const std::string &body_scene, const std::string &body_file,
-                                                               std::string &description)
+  std::shared_ptr<const reduction::ReducedBody> read_or_reduce(const std::string &prefix, const std::string &body_scene,
+                                                               const std::string &body_file, std::string &description)
   {
-    const std::string prefix = current_prefix;
     if (!body_file.empty())
       {
         dealii::TimerOutput::Scope t(timer, "load reduced bodies");
@@ -241,7 +239,6 @@ private:
   dealii::TimerOutput &timer;
   const std::function<void()> &before_reduction;
   bool reduction_prepared = false;
-  std::string current_prefix; ///< "Body NAME/" of the body being obtained, for messages
   /// Reduced bodies obtained so far, by "scene PATH" or "file PATH" (canonical), with whence.
   std::map<std::string, std::pair<std::shared_ptr<const reduction::ReducedBody>, std::string>> obtained;
 };

@@ -47,11 +47,9 @@ void GeneralizedAlphaIntegrator::initialize(const double t0, const State &y0, co
 {
   system.differential_components(differential);
   absolute.reinit(system.size());
-  const double v_tol = settings.velocity_tolerance > 0 ? settings.velocity_tolerance : settings.absolute_tolerance;
-  const auto &per_velocity = settings.velocity_tolerances;
   for (unsigned int i = 0; i < system.size(); ++i)
     absolute[i] = i < system.n_q()                   ? settings.absolute_tolerance
-                  : i < system.n_q() + system.n_v() ? (i - system.n_q() < per_velocity.size() ? per_velocity[i - system.n_q()] : v_tol)
+                  : i < system.n_q() + system.n_v() ? settings.velocity_tolerance_of(i - system.n_q())
                                                      : settings.multiplier_tolerance;
   t_now = t_last = t0;
   y = y_last = y0;

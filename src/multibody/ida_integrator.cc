@@ -157,15 +157,10 @@ void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
   IDAInit(sun->ida, IdaCallbacks::residual, t0, sun->y, sun->yp);
   IDASetUserData(sun->ida, this);
   N_Vector atol = N_VClone(sun->y);
-  const double v_tol = settings.velocity_tolerance > 0 ? settings.velocity_tolerance : settings.absolute_tolerance;
-  const auto velocity_tolerance = [&](const sunindextype i) {
-    const std::size_t k = i - system.n_q();
-    return k < settings.velocity_tolerances.size() ? settings.velocity_tolerances[k] : v_tol;
-  };
   for (sunindextype i = 0; i < n; ++i)
     N_VGetArrayPointer(atol)[i] = id[i] == 0                 ? settings.multiplier_tolerance
                                   : i < sunindextype(system.n_q()) ? settings.absolute_tolerance
-                                                                   : velocity_tolerance(i);
+                                                                   : settings.velocity_tolerance_of(i - system.n_q());
   IDASVtolerances(sun->ida, settings.relative_tolerance, atol);
   N_VDestroy(atol);
   IDASetId(sun->ida, sun->id);

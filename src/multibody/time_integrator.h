@@ -37,6 +37,12 @@ struct IntegratorSettings
   std::vector<double> velocity_tolerances;
   /// "Maximum order = auto" (the default): chosen by choose_automatic_settings().
   bool automatic_max_order = true;
+  /// The absolute tolerance of velocity coordinate @p k (index in v) [m/s, rad/s, modal units/s].
+  double velocity_tolerance_of(std::size_t k) const
+  {
+    if (k < velocity_tolerances.size()) return velocity_tolerances[k];
+    return velocity_tolerance > 0 ? velocity_tolerance : absolute_tolerance;
+  }
   /// Absolute tolerance of the multipliers lambda, mu [N, N m, 1/s]. They are excluded from the
   /// error test, so this enters only IDA's Newton convergence test, where a tight value fails:
   /// index-2 multipliers carry roundoff amplified by c_j ~ 1/h (mu ~ eps |q| / h).
