@@ -27,6 +27,8 @@ flextrack_multibody_check(run_progress_reaches_a_pipe_line_by_line progress_line
                           ${CMAKE_SOURCE_DIR}/prm/slider_crank.prm)
 flextrack_multibody_check(run_interrupted_by_a_signal_writes_its_rows interrupted_run_writes_its_rows
                           ${CMAKE_SOURCE_DIR}/prm/slider_crank.prm)
+flextrack_multibody_check(run_results_h5_is_written_as_the_run_goes results_written_as_run_goes
+                          ${CMAKE_SOURCE_DIR}/prm/pendulum.prm)
 flextrack_multibody_check(reduce_arm_body_without_solid_line_has_no_solid arm_body_without_solid_line
                           ${CMAKE_SOURCE_DIR}/prm/cantilever_body.prm)
 flextrack_multibody_check(run_json_scene_reads_like_prm json_like_prm ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_1s.json)
@@ -97,4 +99,4 @@ file(WRITE ${MB_OUT}/flexible_from_h5.prm
   "  set Reduced body file = ${MB_OUT}/output/curved_boom_body/reduced_body.h5\nend\n")
 flextrack_multibody_check(run_flexible_from_reduced_body_file_matches_body_scene same_as_flexible ${MB_OUT}/flexible_from_h5.prm)
 set_tests_properties(cli_run_flexible_from_reduced_body_file_matches_body_scene PROPERTIES
-  FIXTURES_REQUIRED curved_boom_reduced TIMEOUT 600)
+  FIXTURES_REQUIRED curved_boom_reduced DEPENDS cli_run_flexible_pendulum_balances_energy TIMEOUT 600) # compares with its probes.csv

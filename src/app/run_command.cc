@@ -186,14 +186,13 @@ int run_command(const Options &options, const io::SceneFile &file)
             << " probes; " << system.size() << " unknowns (" << system.n_q() << " positions, " << system.n_v()
             << " velocities, " << system.n_lambda() + system.n_mu() << " multipliers)" << std::endl;
 
-  // Output volume before the run (issue 23): 1e7 rows wrote 161 MB of CSV a minute and built a
-  // 1.9 GB results.h5 in memory.
+  // Output volume before the run (issue 23): 1e7 rows wrote 161 MB of CSV a minute and a 1.9 GB
+  // results.h5 (now written in blocks as the run goes, no longer held in memory).
   const double rows = settings.output_interval > 0 ? (settings.end_time - settings.start_time) / settings.output_interval + 2 : 2;
   const double gib = rows * io::RunRecorder::bytes_per_row(system, scene.probes.size()) / (1024.0 * 1024 * 1024);
   if (gib > scene.max_results_gib)
     throw InputError("Multibody/Output interval", "asks for " + base::number_text(rows) + " output rows, about " +
-                                                    base::number_text(gib) + " GiB of results (results.h5 is kept in memory "
-                                                    "until the end); choose a longer interval, or raise Output/Maximum results "
+                                                    base::number_text(gib) + " GiB of results on disk; choose a longer interval, or raise Output/Maximum results "
                                                     "size (" + base::number_text(scene.max_results_gib) + " GiB)", scene.file);
   if (settings.rigid_reference && scene.probes.empty())
     throw InputError("Multibody/Rigid reference", "needs a probe: the deviation from the rigid run is measured at the "
@@ -209,8 +208,8 @@ int run_command(const Options &options, const io::SceneFile &file)
 
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output_directory, options.file));
   out.tidy_previous_run("run");
-  io::RunRecorder recorder(system, scene.probes, out);
-  io::ProbePaths paths(system, scene.probes);
+  io::RunRecorder recorder(system, scene.probes, out, rows);
+  io::ProbePaths paths(system, scene.probes); // kept in memory only for the rigid reference's deviation
   // The entries left "auto" are chosen here, for this scene, and said in the log and summary.json.
   multibody::IntegratorSettings integrator_settings = settings.integrator;
   const std::string chosen = multibody::choose_automatic_settings(system, integrator_settings);
@@ -223,7 +222,7 @@ int run_command(const Options &options, const io::SceneFile &file)
   monitors.attach(integrator);
   const MonitorValues start = monitors.evaluate(settings.start_time, y);
   recorder.record(settings.start_time, y, start, 0.0);
-  paths.record(settings.start_time, y);
+  if (settings.rigid_reference) paths.record(settings.start_time, y);
 
   std::unique_ptr<io::AnimationWriter> animation;
   double next_frame = settings.start_time;
@@ -245,7 +244,7 @@ int run_command(const Options &options, const io::SceneFile &file)
     failure = integrate(system, integrator, settings, [&](const double time, const Vector<double> &state) {
       const MonitorValues m = monitors.evaluate(time, state);
       recorder.record(time, state, m, multibody::Monitors::balance_error(start, m));
-      paths.record(time, state);
+      if (settings.rigid_reference) paths.record(time, state);
       animate(time, state);
       progress.update(time, integrator.statistics().steps);
     });
@@ -271,7 +270,7 @@ int run_command(const Options &options, const io::SceneFile &file)
 
   {
     TimerOutput::Scope t(timer, "write results");
-    recorder.write_hdf5(out);
+    recorder.finish();
     if (animation) animation->finish(out);
     if (deviation) out.will_add("deviation.png");
     out.add_parameters(*scene.parameters);

@@ -1,7 +1,10 @@
 #include <io/hdf5_file.h>
 
+#include <sys/resource.h>
+
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
@@ -35,7 +38,7 @@ struct Handle
 };
 } // namespace
 
-Hdf5File::Hdf5File(const std::string &name, const Mode mode) : file_name(name)
+Hdf5File::Hdf5File(const std::string &name, const Mode open_mode) : file_name(name), mode(open_mode)
 {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // errors are reported by exceptions
   if (mode == Mode::create)
@@ -47,6 +50,11 @@ Hdf5File::Hdf5File(const std::string &name, const Mode mode) : file_name(name)
       if (fapl.id < 0 || H5Pset_fapl_core(fapl.id, 1 << 20, false) < 0)
         throw std::runtime_error("cannot set up an HDF5 file in memory");
       file = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id);
+      if (file < 0) throw std::runtime_error("cannot create the HDF5 file");
+    }
+  else if (mode == Mode::create_on_disk)
+    {
+      file = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
       if (file < 0) throw std::runtime_error("cannot create the HDF5 file");
     }
   else
@@ -65,6 +73,15 @@ Hdf5File::~Hdf5File()
 void Hdf5File::close()
 {
   if (file < 0) return;
+  if (mode == Mode::create_on_disk)
+    {
+      require_free_space(1 << 20); // HDF5's metadata, written by the flush
+      const bool flushed = H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0;
+      const bool closed = H5Fclose(file) >= 0;
+      file = -1;
+      if (!flushed || !closed) throw std::runtime_error("writing '" + file_name + "' failed (is the disk full?)");
+      return;
+    }
   // The image of the in-memory file, then one checked write of it (see the constructor).
   const bool flushed = H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0;
   const ssize_t size = flushed ? H5Fget_file_image(file, nullptr, 0) : -1;
@@ -80,6 +97,66 @@ void Hdf5File::close()
   if (!out)
     throw std::runtime_error("writing '" + file_name + "' failed: " + std::strerror(errno ? errno : EIO) +
                              " (is the disk full?)");
+}
+
+void Hdf5File::require_free_space(const std::uintmax_t bytes) const
+{
+  // Twice the bytes and 16 MiB to spare: chunks, their index and the metadata HDF5 adds.
+  const std::uintmax_t needed = 2 * bytes + (std::uintmax_t(16) << 20);
+  std::error_code error;
+  const auto space = std::filesystem::space(std::filesystem::path(file_name).parent_path().empty()
+                                              ? std::filesystem::path(".")
+                                              : std::filesystem::path(file_name).parent_path(),
+                                            error);
+  if (!error && space.available < needed)
+    throw std::runtime_error("writing '" + file_name + "' stopped: " + std::to_string(space.available >> 20) +
+                             " MiB left on its disk (is the disk full?)");
+  // A file size limit (ulimit -f) is met like a full disk.
+  rlimit limit{};
+  if (getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+    {
+      std::error_code size_error;
+      const auto size = std::filesystem::file_size(file_name, size_error);
+      if (!size_error && size + needed > limit.rlim_cur)
+        throw std::runtime_error("writing '" + file_name + "' stopped: the file would exceed the file size limit of " +
+                                 std::to_string(limit.rlim_cur) + " bytes (ulimit -f)");
+    }
+}
+
+void Hdf5File::create_growing(const std::string &path, const hsize_t columns, const hsize_t expected_rows)
+{
+  const int rank = columns == 0 ? 1 : 2;
+  const hsize_t dims[2] = {0, columns}, max_dims[2] = {H5S_UNLIMITED, columns};
+  const hsize_t rows = std::clamp<hsize_t>(std::min<hsize_t>(expected_rows, 8192 / std::max<hsize_t>(1, columns)), 1, 8192);
+  const hsize_t chunk[2] = {rows, std::max<hsize_t>(1, columns)};
+  Handle space{H5Screate_simple(rank, dims, max_dims), H5Sclose};
+  Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+  H5Pset_obj_track_times(dcpl.id, false);
+  if (H5Pset_chunk(dcpl.id, rank, chunk) < 0) throw std::runtime_error("cannot set up dataset '" + path + "'");
+  Handle set{H5Dcreate2(file, path.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT), H5Dclose};
+  if (set.id < 0) throw std::runtime_error("cannot create dataset '" + path + "'");
+}
+
+void Hdf5File::append_rows(const std::string &path, const hsize_t n_rows, const double *data)
+{
+  if (n_rows == 0) return;
+  Handle set{H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose};
+  if (set.id < 0) throw std::runtime_error("there is no dataset '" + path + "'");
+  Handle old_space{H5Dget_space(set.id), H5Sclose};
+  hsize_t dims[2] = {0, 1};
+  const int rank = H5Sget_simple_extent_ndims(old_space.id);
+  if (rank < 1 || rank > 2) throw std::runtime_error("dataset '" + path + "' does not grow by rows");
+  H5Sget_simple_extent_dims(old_space.id, dims, nullptr);
+  const hsize_t columns = rank == 2 ? dims[1] : 1;
+  if (mode == Mode::create_on_disk) require_free_space(n_rows * columns * sizeof(double));
+  const hsize_t start[2] = {dims[0], 0}, count[2] = {n_rows, columns};
+  dims[0] += n_rows;
+  if (H5Dset_extent(set.id, dims) < 0) throw std::runtime_error("cannot extend dataset '" + path + "'");
+  Handle file_space{H5Dget_space(set.id), H5Sclose};
+  Handle memory_space{H5Screate_simple(rank, count, nullptr), H5Sclose};
+  if (H5Sselect_hyperslab(file_space.id, H5S_SELECT_SET, start, nullptr, count, nullptr) < 0 ||
+      H5Dwrite(set.id, H5T_NATIVE_DOUBLE, memory_space.id, file_space.id, H5P_DEFAULT, data) < 0)
+    throw std::runtime_error("cannot write dataset '" + path + "'");
 }
 
 void Hdf5File::create_group(const std::string &path)

@@ -8,6 +8,7 @@
 
 #include <hdf5.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,10 @@ namespace flextrack::io
 class Hdf5File
 {
 public:
-  enum class Mode { create, read };
+  enum class Mode { create, create_on_disk, read };
   /// create: a new file, built in memory and written (an existing one replaced) by close() only;
+  /// create_on_disk: a new file written to disk as it grows (results too large to hold in memory:
+  /// a run's results.h5), each write checked against the free space first (see append_rows);
   /// read: must be an HDF5 file.
   Hdf5File(const std::string &name, Mode mode);
   ~Hdf5File();
@@ -34,6 +37,14 @@ public:
   /// A text as a scalar dataset of one fixed-length string (an attribute holds at most 64 KiB).
   void write_text(const std::string &path, const std::string &text);
   void set_attribute(const std::string &object, const std::string &name, long long value);
+  /// A dataset of doubles that grows by rows: [0 x columns] at first ([0] for columns = 0),
+  /// stored in chunks of about 64 KiB, or of @p expected_rows rows when that is less.
+  void create_growing(const std::string &path, hsize_t columns, hsize_t expected_rows);
+  /// Appends @p n_rows rows (row-major, columns values each) to a dataset of create_growing.
+  /// On a file on disk the free space of its folder is checked first: a disk that would fill
+  /// throws std::runtime_error before HDF5 writes (HDF5 1.10 crashes at exit on a file whose
+  /// write failed).
+  void append_rows(const std::string &path, hsize_t n_rows, const double *data);
 
   bool exists(const std::string &path) const;
   /// Names of the members of a group.
@@ -62,7 +73,10 @@ private:
   std::vector<Number> read_checked(const std::string &path, const std::vector<hsize_t> &expected_shape,
                                    H5T_class_t file_class, hid_t memory_type) const;
   void read_raw(const std::string &path, const std::vector<hsize_t> &expected_shape, hid_t memory_type, void *data) const;
+  /// Throws if @p bytes more would not fit on the file's disk or under its file size limit.
+  void require_free_space(std::uintmax_t bytes) const;
   std::string file_name;
+  Mode mode;
   hid_t file = -1;
 };
 } // namespace flextrack::io

@@ -300,8 +300,8 @@ void declare_multibody_scene(ParameterHandler &prm, const SceneNames &names)
                     "Time between the frames of the VTU/PVD animation (animation.pvd, one animation_NNNNN.vtu "
                     "per frame, taken at the output rows) [s]; 0: no animation.");
   prm.declare_entry("Maximum results size", "2", Patterns::Double(0),
-                    "Largest estimated size of a run's results (results.h5, kept in memory until the end, and the "
-                    "CSV files) [GiB], 0.001 to 1000; a scene whose output rows need more is refused before the "
+                    "Largest estimated size of a run's results on disk (results.h5 and the CSV files, all written "
+                    "as the run goes) [GiB], 0.001 to 1000; a scene whose output rows need more is refused before the "
                     "run. Raise it for a long run on purpose, or choose a longer Multibody/Output interval.");
   prm.leave_subsection();
 }

@@ -3,6 +3,7 @@
 #include <io/hdf5_file.h>
 #include <io/run_results.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -51,7 +52,7 @@ void IncrementalCsv::add_row(const std::vector<double> &values)
 }
 
 RunRecorder::RunRecorder(const multibody::System &s, const std::vector<std::unique_ptr<multibody::Probe>> &p,
-                         OutputFolder &folder)
+                         OutputFolder &folder, const double expected_rows)
   : system(s), probes(p), monitor_columns(monitor_names.size())
 {
   if (!probes.empty())
@@ -65,6 +66,68 @@ RunRecorder::RunRecorder(const multibody::System &s, const std::vector<std::uniq
   std::vector<std::string> columns{"time_s"};
   for (std::size_t i = 0; i < monitor_names.size(); ++i) columns.push_back(monitor_names[i] + "_" + monitor_units[i]);
   monitor_csv = std::make_unique<IncrementalCsv>(folder, "monitors.csv", columns);
+  // A block of about 4 MiB of numbers between writes of results.h5.
+  const double values_per_row = 1 + system.size() + 6.0 * system.n_joints() + monitor_names.size() + 6.0 * probes.size();
+  rows_per_block = static_cast<unsigned int>(std::clamp((4 << 20) / (8 * values_per_row), 1.0, 4096.0));
+  const std::string path = folder.add_file("results.h5");
+  if (is_first_process()) create_hdf5(path, static_cast<unsigned long long>(std::clamp(expected_rows, 1.0, 1e9)));
+}
+
+RunRecorder::~RunRecorder() = default;
+
+void RunRecorder::create_hdf5(const std::string &path, const unsigned long long expected_rows)
+{
+  try
+    {
+      hdf5 = std::make_unique<Hdf5File>(path, Hdf5File::Mode::create_on_disk);
+      auto &f = *hdf5;
+      const hsize_t nq = system.n_q(), nv = system.n_v(), nm = system.n_lambda() + system.n_mu();
+      f.set_attribute("/", "format", "FlexTrack multibody results");
+      f.set_attribute("/", "format_version", 1LL);
+      f.set_attribute("/", "units", "SI: m, kg, s, N, rad");
+      f.create_growing("/time", 0, expected_rows);
+      f.set_attribute("/time", "unit", "s");
+      const auto named = [&](const std::string &set, const hsize_t first, const hsize_t n) {
+        f.create_growing(set, n, expected_rows);
+        std::vector<std::string> names;
+        for (hsize_t i = 0; i < n; ++i) names.push_back(system.component_name(first + i));
+        f.set_attribute(set, "names", joined(names));
+      };
+      named("/coordinates", 0, nq);
+      named("/velocities", nq, nv);
+      named("/multipliers", nq + nv, nm);
+      f.create_group("/monitors");
+      for (std::size_t i = 0; i < monitor_names.size(); ++i)
+        {
+          f.create_growing("/monitors/" + monitor_names[i], 0, expected_rows);
+          f.set_attribute("/monitors/" + monitor_names[i], "unit", monitor_units[i]);
+        }
+      f.create_group("/reactions");
+      for (unsigned int j = 0; j < system.n_joints(); ++j)
+        {
+          const std::string g = "/reactions/" + system.joint(j).name();
+          f.create_group(g);
+          f.create_growing(g + "/force", 3, expected_rows);
+          f.set_attribute(g + "/force", "unit", "N");
+          f.create_growing(g + "/torque", 3, expected_rows);
+          f.set_attribute(g + "/torque", "unit", "N m");
+        }
+      f.create_group("/probes");
+      for (const auto &probe : probes)
+        {
+          const std::string g = "/probes/" + probe->name();
+          f.create_group(g);
+          f.set_attribute(g, "frame", probe->frame_name());
+          f.create_growing(g + "/position", 3, expected_rows);
+          f.set_attribute(g + "/position", "unit", "m");
+          f.create_growing(g + "/velocity", 3, expected_rows);
+          f.set_attribute(g + "/velocity", "unit", "m/s");
+        }
+    }
+  catch (const std::runtime_error &e)
+    {
+      throw InputError("-o / Output/Directory", std::string("cannot write 'results.h5': ") + e.what());
+    }
 }
 
 double RunRecorder::bytes_per_row(const multibody::System &system, const std::size_t n_probes)
@@ -77,6 +140,8 @@ double RunRecorder::bytes_per_row(const multibody::System &system, const std::si
 void RunRecorder::record(const double t, const Vector<double> &y, const multibody::MonitorValues &m, const double balance_error)
 {
   time.push_back(t);
+  ++rows_recorded;
+  time_of_last_row = t;
   const unsigned int nq = system.n_q(), nv = system.n_v();
   coordinates.insert(coordinates.end(), y.begin(), y.begin() + nq);
   velocities.insert(velocities.end(), y.begin() + nq, y.begin() + nq + nv);
@@ -93,16 +158,19 @@ void RunRecorder::record(const double t, const Vector<double> &y, const multibod
   max_normalisation_drift = std::max(max_normalisation_drift, m.normalisation_drift);
   max_balance_error = std::max(max_balance_error, std::abs(balance_error));
 
-  if (!probe_csv) return;
-  row = {t};
-  for (const auto &probe : probes)
+  if (probe_csv)
     {
-      const auto v = probe->evaluate(system, y);
-      for (unsigned int a = 0; a < 3; ++a) row.push_back(v.position[a]);
-      for (unsigned int a = 0; a < 3; ++a) row.push_back(v.velocity[a]);
+      row = {t};
+      for (const auto &probe : probes)
+        {
+          const auto v = probe->evaluate(system, y);
+          for (unsigned int a = 0; a < 3; ++a) row.push_back(v.position[a]);
+          for (unsigned int a = 0; a < 3; ++a) row.push_back(v.velocity[a]);
+        }
+      probe_values.insert(probe_values.end(), row.begin() + 1, row.end());
+      probe_csv->add_row(row);
     }
-  probe_values.insert(probe_values.end(), row.begin() + 1, row.end());
-  probe_csv->add_row(row);
+  if (time.size() >= rows_per_block) write_block();
 }
 
 void RunRecorder::record_reactions(const double t, const Vector<double> &y)
@@ -125,70 +193,57 @@ void RunRecorder::record_reactions(const double t, const Vector<double> &y)
     }
 }
 
-void RunRecorder::write_hdf5(OutputFolder &folder) const
+void RunRecorder::write_block()
 {
-  const std::string path = folder.add_file("results.h5");
-  if (!is_first_process()) return;
+  const hsize_t n = time.size();
+  if (hdf5 && n > 0)
+    try
+      {
+        auto &f = *hdf5;
+        f.append_rows("/time", n, time.data());
+        f.append_rows("/coordinates", n, coordinates.data());
+        f.append_rows("/velocities", n, velocities.data());
+        f.append_rows("/multipliers", n, multipliers.data());
+        for (std::size_t i = 0; i < monitor_names.size(); ++i)
+          f.append_rows("/monitors/" + monitor_names[i], n, monitor_columns[i].data());
+        // Reactions and probes are recorded row by row for all joints / probes; each has its own
+        // datasets [n x 3].
+        const auto split = [&](const std::vector<double> &rows, const std::size_t items, const std::size_t item,
+                               const unsigned int offset) {
+          std::vector<double> part(3 * n);
+          for (hsize_t r = 0; r < n; ++r)
+            for (unsigned int a = 0; a < 3; ++a) part[3 * r + a] = rows[(r * items + item) * 6 + offset + a];
+          return part;
+        };
+        const std::size_t nj = system.n_joints(), np = probes.size();
+        for (std::size_t j = 0; j < nj; ++j)
+          {
+            const std::string g = "/reactions/" + system.joint(j).name();
+            f.append_rows(g + "/force", n, split(reactions, nj, j, 0).data());
+            f.append_rows(g + "/torque", n, split(reactions, nj, j, 3).data());
+          }
+        for (std::size_t p = 0; p < np; ++p)
+          {
+            const std::string g = "/probes/" + probes[p]->name();
+            f.append_rows(g + "/position", n, split(probe_values, np, p, 0).data());
+            f.append_rows(g + "/velocity", n, split(probe_values, np, p, 3).data());
+          }
+      }
+    catch (const std::runtime_error &e)
+      {
+        throw InputError("-o / Output/Directory", std::string("cannot write 'results.h5': ") + e.what());
+      }
+  for (auto *block : {&time, &coordinates, &velocities, &multipliers, &reactions, &probe_values}) block->clear();
+  for (auto &column : monitor_columns) column.clear();
+}
+
+void RunRecorder::finish()
+{
+  write_block();
+  if (!hdf5) return;
   try
     {
-      Hdf5File f(path, Hdf5File::Mode::create);
-      const hsize_t n = time.size(), nq = system.n_q(), nv = system.n_v(), nm = system.n_lambda() + system.n_mu();
-      f.set_attribute("/", "format", "FlexTrack multibody results");
-      f.set_attribute("/", "format_version", 1LL);
-      f.set_attribute("/", "units", "SI: m, kg, s, N, rad");
-      f.write("/time", {n}, time.data());
-      std::vector<std::string> names;
-      for (unsigned int i = 0; i < nq; ++i) names.push_back(system.component_name(i));
-      f.write("/coordinates", {n, nq}, coordinates.data());
-      f.set_attribute("/coordinates", "names", joined(names));
-      names.clear();
-      for (unsigned int i = 0; i < nv; ++i) names.push_back(system.component_name(nq + i));
-      f.write("/velocities", {n, nv}, velocities.data());
-      f.set_attribute("/velocities", "names", joined(names));
-      names.clear();
-      for (unsigned int i = 0; i < nm; ++i) names.push_back(system.component_name(nq + nv + i));
-      f.write("/multipliers", {n, nm}, multipliers.data());
-      f.set_attribute("/multipliers", "names", joined(names));
-      f.create_group("/monitors");
-      for (std::size_t i = 0; i < monitor_names.size(); ++i)
-        {
-          f.write("/monitors/" + monitor_names[i], {n}, monitor_columns[i].data());
-          f.set_attribute("/monitors/" + monitor_names[i], "unit", monitor_units[i]);
-        }
-      f.create_group("/reactions");
-      const hsize_t nj = system.n_joints();
-      for (hsize_t j = 0; j < nj; ++j)
-        {
-          std::vector<double> force(3 * n), torque(3 * n);
-          for (hsize_t r = 0; r < n; ++r)
-            for (unsigned int a = 0; a < 3; ++a)
-              {
-                force[3 * r + a] = reactions[(r * nj + j) * 6 + a];
-                torque[3 * r + a] = reactions[(r * nj + j) * 6 + 3 + a];
-              }
-          const std::string g = "/reactions/" + system.joint(j).name();
-          f.create_group(g);
-          f.write(g + "/force", {n, 3}, force.data());
-          f.write(g + "/torque", {n, 3}, torque.data());
-        }
-      f.create_group("/probes");
-      const hsize_t np = probes.size();
-      for (hsize_t p = 0; p < np; ++p)
-        {
-          std::vector<double> position(3 * n), velocity(3 * n);
-          for (hsize_t r = 0; r < n; ++r)
-            for (unsigned int a = 0; a < 3; ++a)
-              {
-                position[3 * r + a] = probe_values[(r * np + p) * 6 + a];
-                velocity[3 * r + a] = probe_values[(r * np + p) * 6 + 3 + a];
-              }
-          const std::string g = "/probes/" + probes[p]->name();
-          f.create_group(g);
-          f.set_attribute(g, "frame", probes[p]->frame_name());
-          f.write(g + "/position", {n, 3}, position.data());
-          f.write(g + "/velocity", {n, 3}, velocity.data());
-        }
-      f.close(); // written to disk here (io/hdf5_file.h)
+      hdf5->close();
     }
   catch (const std::runtime_error &e)
     {

@@ -160,6 +160,15 @@ CASES = {
     "ten_million_output_rows": dict(
         files={"s.prm": pendulum().replace("set Output interval = 0.01", "set Output interval = 1e-7")},
         args=["run", "s.prm"], regex=r"Multibody/Output interval.*asks for 1e\+07 output rows, about .* GiB of results"),
+    # Item 5: results.h5 is written as the run goes; a disk that fills (here a file size limit of
+    # 8 MB, under which the first 4 MiB block cannot be written with its margin) stops the run with
+    # exit 2 naming the output, and leaves no half-written files.
+    "results_beyond_file_size_limit": dict(
+        files={"s.prm": pendulum().replace("set Output interval = 0.01", "set Output interval = 1e-4").replace(
+            "set End time        = 1", "set End time        = 20")},
+        args=["run", "s.prm", "-o", "out"], fsize_limit=8000000, status=2,
+        regex=r"cannot write 'results.h5'.*(file size limit|disk full|File too large)", entry="Output/Directory",
+        names_file=False),
     # Item 5: at the old limit of 1e6 rad/s a 1 s pendulum took 566 502 steps and 41 s of CPU.
     "angular_velocity_1e6": dict(
         files={"s.prm": pendulum().replace("set Rotation vector = 0, 0, 2.6179938779914944",

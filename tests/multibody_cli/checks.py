@@ -443,5 +443,45 @@ def same_as_flexible(exe, scene, out):
         check(a.read() == b.read(), "probes.csv equals that of the body-scene run")
 
 
+def peak_memory_run(exe, *args):
+    """Runs flextrack; returns its peak resident memory [bytes] (Linux ru_maxrss is in KiB)."""
+    p = subprocess.Popen([exe, *args], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(p.pid, 0)
+    check(os.waitstatus_to_exitcode(status) == 0, f"flextrack {' '.join(args)} completes: {p.stderr.read().decode()}")
+    return usage.ru_maxrss * 1024
+
+
+def results_written_as_run_goes(exe, scene, out):
+    # Issue 23, item 5: results.h5 was built in memory and written at the end (a 1.9 GB file held
+    # twice: the rows and HDF5's image of the file). It is now written in blocks of about 4 MiB.
+    # The same pendulum is run with 22 output rows and with 200 001 (a results.h5 of about 77 MB):
+    # the long run may need at most a quarter of its results.h5 more memory than the short one
+    # (held in memory it would need at least twice the file).
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    runs = {}
+    for name, interval in (("few_rows", "1"), ("many_rows", "1e-4")):
+        local = os.path.join(out, name + ".prm")
+        with open(local, "w") as f:
+            f.write(f"include {scene}\nsubsection Multibody\n  set End time = 20\n  set Output interval = {interval}\nend\n")
+        runs[name] = peak_memory_run(exe, "run", local, "-o", os.path.join(out, name))
+    size = os.path.getsize(os.path.join(out, "many_rows", "results.h5"))
+    extra = runs["many_rows"] - runs["few_rows"]
+    print(f"results.h5 {size / 2**20:.1f} MiB; peak memory {runs['few_rows'] / 2**20:.1f} MiB (22 rows), "
+          f"{runs['many_rows'] / 2**20:.1f} MiB (200 001 rows)")
+    check(size > 50 * 2**20, f"results.h5 of 200 001 rows holds {size / 2**20:.1f} MiB (> 50 MiB)")
+    check(extra < size / 4, f"the long run needs {extra / 2**20:.1f} MiB more memory, less than a quarter of results.h5")
+    import h5py
+    with h5py.File(os.path.join(out, "many_rows", "results.h5"), "r") as f:
+        time = f["time"][:]
+        check(len(time) == 200001 and abs(time[-1] - 20) < 1e-9 and f["coordinates"].shape[0] == 200001,
+              f"results.h5: {len(time)} rows of time and coordinates, the last at t = {time[-1]} s")
+        x = f["probes/bob_centre/position"][:, 0]
+    with open(os.path.join(out, "many_rows", "probes.csv")) as f:
+        rows = list(csv.DictReader(f))
+    worst = max(abs(float(r["bob_centre_x_m"]) - x[i]) for i, r in enumerate(rows))
+    check(len(rows) == 200001 and worst < 1e-11, f"results.h5 probe x equals probes.csv to {worst:.1e} m (12 digits of the CSV)")
+
+
 if __name__ == "__main__":
     globals()[sys.argv[1]](*sys.argv[2:5])

@@ -628,13 +628,13 @@ RecordedReactions record_reactions(System &s, const double t_end, const double i
   {
     io::OutputFolder out(folder.string());
     const std::vector<std::unique_ptr<Probe>> probes;
-    io::RunRecorder recorder(s, probes, out);
+    io::RunRecorder recorder(s, probes, out, t_end / interval + 2);
     recorder.record(0, y, MonitorValues(), 0.0);
     const double t = ida.integrate(t_end, interval, [&](const double time, const Vector<double> &yy, const Vector<double> &) {
       recorder.record(time, yy, MonitorValues(), 0.0);
     });
     EXPECT_NEAR(t, t_end, 1e-12) << "the run reaches its end time (no end of a track on the way)";
-    recorder.write_hdf5(out);
+    recorder.finish();
     out.commit();
   }
   RecordedReactions r;
