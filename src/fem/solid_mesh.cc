@@ -12,6 +12,7 @@
 #include <deal.II/grid/tria_iterator.h>
 
 #include <algorithm>
+#include <iomanip>
 #include <array>
 #include <cctype>
 #include <cerrno>
@@ -253,10 +254,28 @@ void check_element(const std::array<Point<3>, 20> &x, const std::string &label, 
       smallest = std::min(smallest, determinant(J));
       largest = std::max(largest, std::abs(determinant(J)));
     }
+  // A collapsed element (flattened to a face, an edge or a point) has a determinant that is
+  // small everywhere, so the ratio above does not see it: its determinant is compared with that
+  // of a cube of its longest edge h, (h / 2)^3 on the reference cell [-1, 1]^3.
+  double longest_edge = 0;
+  for (unsigned int l = 0; l < 12; ++l)
+    longest_edge = std::max(longest_edge, x[GeometryInfo<3>::line_to_cell_vertices(l, 0)].distance(
+                                            x[GeometryInfo<3>::line_to_cell_vertices(l, 1)]));
+  const double cube = std::pow(longest_edge / 2, 3);
+  if (smallest > 1e-10 * largest && !(smallest > 1e-9 * cube))
+    {
+      std::ostringstream m;
+      m << label << (label.find(source) == std::string::npos ? " of '" + source + "'" : std::string())
+        << " is collapsed: its Jacobian determinant is " << std::setprecision(3) << smallest / cube
+        << " of that of a cube of its longest edge (" << longest_edge << " m; at least 1e-9 needed): check its node "
+        << "coordinates";
+      throw InputError(entry, m.str());
+    }
   if (!(smallest > 1e-10 * largest))
     {
       std::ostringstream m;
-      m << label << " of '" << source << "' is inverted or degenerate: its Jacobian determinant "
+      m << label << (label.find(source) == std::string::npos ? " of '" + source + "'" : std::string())
+        << " is inverted or degenerate: its Jacobian determinant "
         << "reaches " << smallest << " (must stay > 0); check its node order (Abaqus: corners 1-4 "
         << "counter-clockwise, 5-8 above them) and its mid-side node positions";
       throw InputError(entry, m.str());

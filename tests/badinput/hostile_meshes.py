@@ -61,6 +61,10 @@ CASES = {
                             r"fill the same space"),
     "nset_names_missing_node": ("nset_missing_node.inp",
                                 r"line 19: node set 'FIX' names node 99, which is not defined under \*NODE"),
+    # Issue 23, item 8: an element flattened to 1e-12 m was accepted (its determinant small but even).
+    "collapsed_element": ("collapsed_element.inp",
+                          r"element 2 .* is collapsed: its Jacobian determinant is .* of that of a cube of its "
+                          r"longest edge \(1 m; at least 1e-9 needed\)"),
     # Reported as an inverted element before.
     "duplicate_node_id_inp": ("duplicate_node_id.inp",
                               r"line 15: node 3 is defined a second time \(first at line 5\); node numbers must be unique"),
