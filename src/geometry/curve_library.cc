@@ -5,6 +5,8 @@
 #include <base/input_error.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <unordered_map>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -114,6 +116,70 @@ double segment_distance(const Point<3> &a, const Point<3> &b, const Point<3> &c,
   return (w + x * u - y * v).norm();
 }
 
+/// Refuses a curve that crosses or touches itself (it would put two parts of an arm in one
+/// place). The polygon of the samples @p points (spaced @p h along the curve) lies within the
+/// sagitta k h^2 / 8 of the curve; two segments that are not neighbours along the curve and come
+/// closer than that (plus 1e-9 L of round-off) cross or touch. The ends of a closed ring may meet.
+/// Candidate pairs come from a grid of cells of at least h: linear in the number of samples.
+void refuse_self_crossing(const Curve &curve, const std::vector<Point<3>> &points, const double h, const double L,
+                          const double scale, const std::string &what, const std::string &entry)
+{
+  const int samples = static_cast<int>(points.size()) - 1;
+  double sagitta = 0;
+  for (int i = 0; i < samples; ++i)
+    {
+      const double k = curve.geometry(L * (i + 0.5) / samples).curvature;
+      if (std::isfinite(k)) sagitta = std::max(sagitta, k * h * h / 8);
+    }
+  const double touching = 2 * sagitta + 1e-9 * std::max(L, scale);
+  // Each segment is entered in the cells its box (grown by `touching`) overlaps; pairs that share
+  // a cell are measured. A cell is at least as large as a segment, so a segment meets at most 8.
+  const double cell = std::max(h, touching) * 1.000001;
+  Point<3> low = points[0];
+  for (const auto &p : points)
+    for (int d = 0; d < 3; ++d) low[d] = std::min(low[d], p[d]);
+  std::unordered_map<std::uint64_t, std::vector<int>> grid;
+  const auto cell_index = [&](const double x, const int d) { return static_cast<std::int64_t>(std::floor((x - low[d]) / cell)); };
+  for (int i = 0; i < samples; ++i)
+    {
+      std::int64_t from[3], to[3];
+      for (int d = 0; d < 3; ++d)
+        {
+          from[d] = cell_index(std::min(points[i][d], points[i + 1][d]) - touching, d);
+          to[d] = cell_index(std::max(points[i][d], points[i + 1][d]) + touching, d);
+        }
+      for (auto a = from[0]; a <= to[0]; ++a)
+        for (auto b = from[1]; b <= to[1]; ++b)
+          for (auto e = from[2]; e <= to[2]; ++e)
+            grid[(static_cast<std::uint64_t>(a + 1) * 2097152 + static_cast<std::uint64_t>(b + 1)) * 2097152 +
+                 static_cast<std::uint64_t>(e + 1)]
+              .push_back(i);
+    }
+  // The first crossing along the curve is reported (the grid's order is not the curve's).
+  int first_i = samples, first_j = samples;
+  double first_gap = 0;
+  for (const auto &[key, members] : grid)
+    for (std::size_t x = 0; x < members.size(); ++x)
+      for (std::size_t y = x + 1; y < members.size(); ++y)
+        {
+          const int i = std::min(members[x], members[y]), j = std::max(members[x], members[y]);
+          if (j < i + 3 || (i == 0 && j == samples - 1) || std::make_pair(i, j) >= std::make_pair(first_i, first_j))
+            continue;
+          const double gap = segment_distance(points[i], points[i + 1], points[j], points[j + 1]);
+          // Segments near each other along the curve are near in space anyway: only pairs at
+          // least 3 h apart along the curve and closer than a third of that count.
+          if (gap <= touching && gap < (j - i) * h / 3) first_i = i, first_j = j, first_gap = gap;
+        }
+  if (first_i < samples)
+    {
+      std::ostringstream m;
+      m << what << " crosses or touches itself: the parts near s = " << L * (first_i + 0.5) / samples << " m and s = "
+        << L * (first_j + 0.5) / samples << " m come within " << first_gap << " m of each other; an arm cannot pass "
+        << "through itself";
+      throw InputError(entry, m.str());
+    }
+}
+
 std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const CurveEntries &entries)
 {
   const std::string what = "the curve (" + curve->description() + ")";
@@ -143,46 +209,70 @@ std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const C
   const double scale = std::max(1.0, curve->position(0).norm());
   if (!(L > 1e-12 * scale))
     throw InputError(entries.section, what + " has zero length; " + entries.advice);
-  // Coordinates and the differential geometry must be finite along the whole curve.
-  constexpr int samples = 1024;
-  const double h = L / samples;
-  std::vector<Point<3>> points(samples + 1);
-  std::vector<Vec3> tangents(samples + 1);
-  std::vector<double> turn_rates(samples + 1); // curvature x h at each sample [rad]
-  for (int i = 0; i <= samples; ++i)
-    {
-      const double s = L * i / samples;
-      check_position(s);
-      const CurveGeometry g = curve->geometry(s);
-      points[i] = g.position;
-      bool finite = std::isfinite(g.curvature) && std::isfinite(g.torsion);
-      for (int d = 0; d < 3; ++d) finite = finite && std::isfinite(g.tangent[d]);
-      if (!finite)
-        {
-          std::ostringstream m;
-          m << what << " has no finite tangent or curvature at s = " << s
-            << " m (a cusp, where the derivative of the position vanishes, or a singular expression); "
-               "the curve must be smooth and regular";
-          throw InputError(entries.section, m.str());
-        }
-      tangents[i] = g.tangent;
-      turn_rates[i] = std::isfinite(g.curvature) ? g.curvature * h : 0.0;
-    }
-  // Where the samples resolve the curve (the median turn between samples at most 0.2 rad; a
-  // helix of many turns is not resolved, and its entries have limits of their own), a turn of
-  // the tangent by more than 90 degrees between two samples is a cusp or a kink: a regular
-  // curve would need a radius below 0.64 h = L / 1600 there. A cusp such as (t^3, t^2) at t = 0
-  // reverses the tangent and was accepted (its curvature at the samples beside it is large too,
-  // so no bound from the sampled curvature would catch it).
-  std::vector<double> sorted = turn_rates;
+  // Coordinates and the differential geometry must be finite along the whole curve. Sampled at
+  // 1024 points first, then, for a curve that turns much (a helix of many turns), again at enough
+  // points that the tangent turns about 0.1 rad between two (at most 65536 points).
+  struct Samples
+  {
+    double h = 0;
+    std::vector<Point<3>> points;
+    std::vector<Vec3> tangents;
+    std::vector<double> turns; // curvature x h at each sample [rad]
+  };
+  const auto sample = [&](const int n) {
+    Samples c;
+    c.h = L / n;
+    c.points.resize(n + 1);
+    c.tangents.resize(n + 1);
+    c.turns.resize(n + 1);
+    for (int i = 0; i <= n; ++i)
+      {
+        const double s = L * i / n;
+        check_position(s);
+        const CurveGeometry g = curve->geometry(s);
+        c.points[i] = g.position;
+        bool finite = std::isfinite(g.curvature) && std::isfinite(g.torsion);
+        for (int d = 0; d < 3; ++d) finite = finite && std::isfinite(g.tangent[d]);
+        if (!finite)
+          {
+            std::ostringstream m;
+            m << what << " has no finite tangent or curvature at s = " << s
+              << " m (a cusp, where the derivative of the position vanishes, or a singular expression); "
+                 "the curve must be smooth and regular";
+            throw InputError(entries.section, m.str());
+          }
+        c.tangents[i] = g.tangent;
+        c.turns[i] = g.curvature * c.h;
+      }
+    return c;
+  };
+  Samples c = sample(1024);
+  {
+    // The total turn of the tangent, from the median turn between samples (a cusp's few huge
+    // values do not count), sets the number of samples.
+    std::vector<double> sorted = c.turns;
+    std::nth_element(sorted.begin(), sorted.begin() + 512, sorted.end());
+    const double total_turn = sorted[512] * 1024;
+    const int needed = static_cast<int>(std::min(65536.0, std::ceil(total_turn / 0.1)));
+    if (needed > 1024) c = sample(needed);
+  }
+  const int samples = static_cast<int>(c.points.size()) - 1;
+  const double h = c.h;
+  // Where the samples resolve the curve (the median turn between samples at most 0.2 rad; only a
+  // helix of more than about 2000 turns is not resolved by 65536 samples, and its entries have
+  // limits of their own), a turn of the tangent by more than 90 degrees between two samples is
+  // a cusp or a kink: a regular curve would need a radius below 0.64 h there. A cusp such as
+  // (t^3, t^2) at t = 0 reverses the tangent and was accepted (its curvature at the samples beside
+  // it is large too, so no bound from the sampled curvature would catch it).
+  std::vector<double> sorted = c.turns;
   std::nth_element(sorted.begin(), sorted.begin() + samples / 2, sorted.end());
   const bool resolved = sorted[samples / 2] <= 0.2;
   for (int i = 1; i <= samples && resolved; ++i)
     {
       // A sample on the cusp itself has no direction (a zero tangent): a turn of 90 degrees to
       // each side; the turn across it (i - 1 to i + 1) is the reversal.
-      const bool no_direction = tangents[i].norm() < 0.5;
-      const double turn = std::acos(std::clamp(tangents[i - 1] * tangents[i], -1.0, 1.0));
+      const bool no_direction = c.tangents[i].norm() < 0.5;
+      const double turn = std::acos(std::clamp(c.tangents[i - 1] * c.tangents[i], -1.0, 1.0));
       if (turn > M_PI / 2 || no_direction)
         {
           std::ostringstream m;
@@ -191,32 +281,7 @@ std::shared_ptr<const Curve> checked(std::shared_ptr<const Curve> curve, const C
           throw InputError(entries.section, m.str());
         }
     }
-  // A curve that crosses itself would put two parts of an arm in one place. The polygon of the
-  // samples lies within the sagitta k h^2 / 8 of the curve; two segments that are not neighbours
-  // along the curve and come closer than that (plus 1e-9 L of round-off) cross or touch.
-  // Checked where the samples resolve the curve (above). The ends of a closed ring may meet.
-  double sagitta = 0;
-  for (int i = 0; i < samples; ++i)
-    {
-      const double k = curve->geometry(L * (i + 0.5) / samples).curvature;
-      if (std::isfinite(k)) sagitta = std::max(sagitta, k * h * h / 8);
-    }
-  const double touching = 2 * sagitta + 1e-9 * std::max(L, scale);
-  for (int i = 0; i < samples && resolved; ++i)
-    for (int j = i + 3; j < samples; ++j)
-      {
-        if (i == 0 && j == samples - 1) continue;
-        const double gap = segment_distance(points[i], points[i + 1], points[j], points[j + 1]);
-        // Segments near each other along the curve are near in space anyway: only pairs at
-        // least 3 h apart along the curve and closer than a third of that count.
-        if (gap <= touching && gap < (j - i) * h / 3)
-          {
-            std::ostringstream m;
-            m << what << " crosses or touches itself: the parts near s = " << L * (i + 0.5) / samples << " m and s = "
-              << L * (j + 0.5) / samples << " m come within " << gap << " m of each other; an arm cannot pass through itself";
-            throw InputError(entries.section, m.str());
-          }
-      }
+  if (resolved) refuse_self_crossing(*curve, c.points, h, L, scale, what, entries.section);
   return curve;
 }
 

@@ -202,6 +202,22 @@ CASES = {
         files={"s.prm": hostile_scenes.arm(modes="20", elements="40")}, args=["modes", "s.prm", "-o", "out"],
         fsize_limit=4000, regex=r"cannot write 'out/mode_shapes_001.vtu': (File too large|No space)",
         entry="Output/Directory", names_file=False),
+    # Item 8, many turns: 1024 samples do not resolve a curve of 200 turns, so its cusps and
+    # crossings went unchecked; the samples now follow the total turn (0.1 rad apart, up to 65536).
+    # A helix that climbs 100 turns and comes down the next 100 crosses its way up; a 64-turn
+    # spiral that reverses at t = 100 has a cusp there; a 200-turn helix of 1 mm pitch is read.
+    "arm_200_turns_crossing_itself": dict(
+        files={"s.prm": hostile_scenes.parametric("0.1*cos(t)", "0.1*sin(t)", "0.05*sin(t/400)", start="0",
+                                                  end="1256.6370614359173")},
+        args=["modes", "s.prm"], regex=r"Arm/Curve.*crosses or touches itself: the parts near s = "),
+    "arm_many_turns_with_a_cusp": dict(
+        files={"s.prm": hostile_scenes.parametric("0.1*cos((t-100)^2)", "0.1*sin((t-100)^2)", "0.001*(t-100)^2/(2*pi)",
+                                                  start="79.7", end="120")},
+        args=["modes", "s.prm"], regex=r"Arm/Curve.*turns its tangent by .* degrees between s = 41\.\d* and .*: a cusp"),
+    "arm_200_turn_helix_is_read": dict(
+        files={"s.prm": hostile_scenes.parametric("0.1*cos(t)", "0.1*sin(t)", "0.001*t/(2*pi)", start="0",
+                                                  end="1256.6370614359173")},
+        args=["modes", "s.prm"], status=0, outputs=["frequencies.csv"]),
     # Issue 24: 'auto' or a number in the two entries chosen for the scene by default.
     "maximum_order_seven": dict(
         files={"s.prm": pendulum(integrator="    set Maximum order = 7")}, args=["run", "s.prm"],

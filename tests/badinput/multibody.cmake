@@ -12,6 +12,7 @@ set(FLEXTRACK_HOSTILE_MULTIBODY_CASES
   results_beyond_file_size_limit angular_velocity_1e6 json_scene_with_plain_keys_runs
   modes_write_error_in_mode_shapes bodies_200000_names
   arm_with_a_cusp arm_crossing_itself arm_full_ring_is_read arm_tight_helix_is_read
+  arm_200_turns_crossing_itself arm_many_turns_with_a_cusp arm_200_turn_helix_is_read
   maximum_order_seven velocity_tolerance_word)
 foreach(case ${FLEXTRACK_HOSTILE_MULTIBODY_CASES})
   add_test(NAME badinput_multibody_${case}
