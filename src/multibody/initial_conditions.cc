@@ -82,18 +82,31 @@ double max_abs(const Vector<double> &v) { return v.size() ? v.linfty_norm() : 0.
 
 /// A dropped equation must also hold at velocity level with the projected velocities: a driver
 /// that duplicates what other joints hold fixed (or two drivers of one motion) conflicts there.
-void refuse_conflicting_velocities(const System &system, const double t0, const Vector<double> &y, const double tolerance)
+/// A row is dropped when it is dependent to within @p rank_tolerance (relative), so its velocity
+/// residual may be up to that fraction of |B_r| |v| without a conflict: 3.8e-8 m/s (against a
+/// fixed 1e3 x 1e-11) was called a conflict in a consistent scene.
+void refuse_conflicting_velocities(const System &system, const double t0, const Vector<double> &y, const double tolerance,
+                                   const double rank_tolerance)
 {
   Vector<double> phi, phi_t, v(system.n_v());
   FullMatrix<double> B;
   system.constraints(t0, y, true, phi, B, phi_t);
   for (unsigned int i = 0; i < system.n_v(); ++i) v[i] = y[system.n_q() + i];
+  // What a row dependent to within rank_tolerance may leave: its remainder (at most rank_tolerance
+  // |B_r|) times |v| (Cauchy-Schwarz).
+  Vector<double> allowed_remainder(phi_t.size());
+  for (unsigned int r = 0; r < phi_t.size(); ++r)
+    {
+      double row_norm = 0;
+      for (unsigned int k = 0; k < B.n(); ++k) row_norm += B(r, k) * B(r, k);
+      allowed_remainder[r] = 10 * rank_tolerance * std::sqrt(row_norm) * v.l2_norm();
+    }
   if (B.m()) B.vmult_add(phi_t, v);
   const auto rows = system.constraint_rows(true);
   std::string joints;
   double worst = 0;
   for (unsigned int r = 0; r < rows.size(); ++r)
-    if (std::abs(phi_t[r]) > 1e3 * tolerance)
+    if (std::abs(phi_t[r]) > 1e3 * tolerance + allowed_remainder[r])
       {
         const std::string name = system.joint(rows[r].first).name();
         if (joints.find("'" + name + "'") == std::string::npos) joints += (joints.empty() ? "'" : ", '") + name + "'";
@@ -267,7 +280,7 @@ InitialConditionReport consistent_initial_conditions(System &system, const doubl
   if (B.m()) B.vmult_add(r, v);
   const Vector<double> dv = minimum_norm_correction(weight_inverse(system, y), B, r);
   for (unsigned int i = 0; i < nv; ++i) y[nq + i] += dv[i];
-  refuse_conflicting_velocities(system, t0, y, settings.tolerance);
+  refuse_conflicting_velocities(system, t0, y, settings.tolerance, settings.rank_tolerance);
   consistent_derivatives(system, t0, y, yp);
 
   system.constraints(t0, y, true, phi, B, phi_t); // every equation, the dropped ones included
