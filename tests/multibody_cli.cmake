@@ -29,6 +29,8 @@ flextrack_multibody_check(run_interrupted_by_a_signal_writes_its_rows interrupte
                           ${CMAKE_SOURCE_DIR}/prm/slider_crank.prm)
 flextrack_multibody_check(run_results_h5_is_written_as_the_run_goes results_written_as_run_goes
                           ${CMAKE_SOURCE_DIR}/prm/pendulum.prm)
+flextrack_multibody_check(run_set_on_command_line_equals_the_edited_files set_on_command_line
+                          ${CMAKE_SOURCE_DIR}/prm/cantilever_body.prm)
 flextrack_multibody_check(reduce_arm_body_without_solid_line_has_no_solid arm_body_without_solid_line
                           ${CMAKE_SOURCE_DIR}/prm/cantilever_body.prm)
 flextrack_multibody_check(run_json_scene_reads_like_prm json_like_prm ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_1s.json)

@@ -270,6 +270,7 @@ int bench_command(const Options &options, const io::SceneFile &file)
   summary.add("program", "flextrack " FLEXTRACK_VERSION)
     .add("command", "bench")
     .add("parameter_file", options.file)
+      .add("set_on_command_line", io::override_texts(options.overrides))
     .add("reference_rtol", rtol_ref)
     .add("reference_steps", static_cast<double>(ref_row.statistics.steps))
     .add("reference_wall_time_s", ref_row.wall);

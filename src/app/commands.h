@@ -18,6 +18,7 @@ struct Options
   unsigned int refinements = 3; ///< converge: number of refinements K
   std::string format;           ///< export: a name of io::export_formats()
   std::string mbdyn_clamp;      ///< export: --mbdyn-clamp (auto, yes, no); empty = not given
+  std::vector<io::ParameterOverride> overrides; ///< --set ENTRY=VALUE, in their order
 };
 
 /// Time simulation of a multibody scene (Model = multibody): probes.csv, monitors.csv,

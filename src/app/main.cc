@@ -58,6 +58,12 @@ Usage:
   flextrack print-parameters         every parameter: default, allowed values, unit, meaning
   flextrack --help | --version
 
+Every command that reads a scene FILE also takes, repeatable:
+  --set ENTRY=VALUE                  set an entry after the file (checked like the file's own),
+                                     ENTRY as print-parameters shows it, e.g.
+                                     --set "Multibody/End time=5"; "Body NAME:ENTRY" sets an
+                                     entry of flexible body NAME's body scene
+
 Results go to DIR (default: output/<FILE name without extension>/):
   frequencies.csv   mode, frequency [Hz]
   summary.json      degrees of freedom, frequencies, wall time per stage, parameters used
@@ -185,6 +191,13 @@ std::string parse_options(const std::string &command, const std::vector<std::str
           if (++i == args.size()) return "--mbdyn-clamp needs a value: auto, yes or no";
           options.mbdyn_clamp = args[i]; // checked by export_command (bad input, exit 2)
         }
+      else if (args[i] == "--set")
+        {
+          if (++i == args.size()) return "--set needs ENTRY=VALUE, e.g. --set \"Multibody/End time=5\"";
+          options.overrides.push_back(flextrack::io::parse_override(args[i])); // InputError: exit 2
+        }
+      else if (args[i].rfind("--set=", 0) == 0)
+        options.overrides.push_back(flextrack::io::parse_override(args[i].substr(6)));
       else if (!args[i].empty() && args[i][0] == '-')
         return "unknown option '" + flextrack::base::printable_excerpt(args[i]) + "' for " + command;
       else if (options.file.empty())
@@ -229,7 +242,7 @@ int dispatch(std::vector<std::string> args, int *argc, char ***argv)
   if (const auto problem = parse_options(command, args, options); !problem.empty()) return usage_error(problem);
   if (row->needs_mpi) start_mpi(argc, argv);
   if (row->on_options) return row->on_options(options);
-  return row->on_scene(options, flextrack::io::SceneFile::read(options.file));
+  return row->on_scene(options, flextrack::io::SceneFile::read(options.file, options.overrides));
 }
 } // namespace
 

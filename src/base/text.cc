@@ -15,6 +15,13 @@ std::string trim(const std::string &text)
   return text.substr(a, text.find_last_not_of(" \t\r\n") + 1 - a);
 }
 
+std::string joined(const std::vector<std::string> &items, const std::string &separator)
+{
+  std::string text;
+  for (std::size_t i = 0; i < items.size(); ++i) text += (i ? separator : "") + items[i];
+  return text;
+}
+
 std::vector<std::string> split(const std::string &text, const char separator)
 {
   std::vector<std::string> items;

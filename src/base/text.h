@@ -19,6 +19,9 @@ namespace flextrack::base
 {
 std::string trim(const std::string &text);
 
+/// @p items joined by @p separator ("a, b, c").
+std::string joined(const std::vector<std::string> &items, const std::string &separator = ", ");
+
 /// Items of @p text separated by @p separator, trimmed; empty items are dropped.
 std::vector<std::string> split(const std::string &text, char separator);
 

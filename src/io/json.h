@@ -24,6 +24,12 @@ public:
     for (std::size_t i = 0; i < values.size(); ++i) s += (i ? ", " : "") + number(values[i]);
     return raw(key, s + "]");
   }
+  JsonObject &add(const std::string &key, const std::vector<std::string> &texts)
+  {
+    std::string s = "[";
+    for (std::size_t i = 0; i < texts.size(); ++i) s += (i ? ", " : "") + quote(texts[i]);
+    return raw(key, s + "]");
+  }
   JsonObject &add(const std::string &key, const JsonObject &object) { return raw(key, object.str()); }
   /// @p json must already be valid JSON text.
   JsonObject &raw(const std::string &key, const std::string &json)

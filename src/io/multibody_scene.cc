@@ -50,12 +50,7 @@ void in_instance(ParameterHandler &prm, const std::string &kind, const std::stri
   prm.leave_subsection();
 }
 
-std::string joined(const std::vector<std::string> &names)
-{
-  std::string s;
-  for (const auto &n : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
+using base::joined;
 
 /// Every body name an instance refers to exists (entry, allowed names); checked before anything
 /// is built, so that no reduction runs for a scene with a typo.
@@ -182,30 +177,42 @@ public:
   {}
 
   /// The reduced body named in the current `subsection Body NAME`; @p description says whence.
-  std::shared_ptr<const reduction::ReducedBody> obtain(ParameterHandler &prm, const std::string &prefix,
+  std::shared_ptr<const reduction::ReducedBody> obtain(ParameterHandler &prm, const std::string &name,
                                                        std::string &description)
   {
+    const std::string prefix = "Body " + name + "/";
     const std::string body_scene = base::trim(prm.get("Body scene")), body_file = base::trim(prm.get("Reduced body file"));
     if (body_scene.empty() == body_file.empty())
       throw InputError(prefix + "Body scene", "a flexible body needs exactly one of 'Body scene' and 'Reduced body file'");
+    const auto overrides = scene.overrides_of(name);
+    if (!overrides.empty() && !body_file.empty())
+      throw InputError("--set", "'Body " + name + ":" + overrides.front().path + "': body '" + name + "' is read from "
+                                "a reduced body file, which has no entries to set; give it a 'Body scene' instead");
     // Several bodies of one reduced body (a chain of equal links) share it: read, checked and
     // reduced once (issue 24, item 6: each instance was read again, 0.16 s each).
     std::error_code error;
     const std::string path = relative(body_file.empty() ? body_scene : body_file);
-    const std::string key = (body_file.empty() ? "scene " : "file ") + fs::weakly_canonical(path, error).string();
+    // The same body scene with other --set entries is another body.
+    std::string key = (body_file.empty() ? "scene " : "file ") + fs::weakly_canonical(path, error).string();
+    for (const auto &o : overrides) key += "\n" + o.text();
     if (const auto known = obtained.find(key); !error && known != obtained.end())
       {
         description = known->second.second + ", shared";
         return known->second.first;
       }
-    std::shared_ptr<const reduction::ReducedBody> body = read_or_reduce(prefix, body_scene, body_file, description);
+    std::shared_ptr<const reduction::ReducedBody> body = read_or_reduce(prefix, body_scene, body_file, overrides, description);
     if (!error) obtained.emplace(key, std::make_pair(body, description));
     return body;
   }
 
+  /// The --set entries of body @p name's body scene.
+  std::vector<ParameterOverride> scene_overrides(const std::string &name) const { return scene.overrides_of(name); }
+
 private:
   std::shared_ptr<const reduction::ReducedBody> read_or_reduce(const std::string &prefix, const std::string &body_scene,
-                                                               const std::string &body_file, std::string &description)
+                                                               const std::string &body_file,
+                                                               const std::vector<ParameterOverride> &overrides,
+                                                               std::string &description)
   {
     if (!body_file.empty())
       {
@@ -215,7 +222,8 @@ private:
         description = "reduced body file " + relative(body_file);
         return body;
       }
-    const auto source = naming_entry(prefix + "Body scene", [&] { return read_body_scene(relative(body_scene)); });
+    const auto source =
+      naming_entry(prefix + "Body scene", [&] { return read_body_scene(SceneFile::read(relative(body_scene), overrides)); });
     const std::string cache =
       OutputFolder::choose("", source.output.directory, source.file) + "/reduced_body.h5";
     log << "  body scene " << source.file << ":\n";
@@ -252,6 +260,9 @@ std::unique_ptr<FloatingBody> make_body(ParameterHandler &prm, const std::string
   d << name << ": ";
   if (prm.get("Kind") == "rigid")
     {
+      if (const auto overrides = flexible.scene_overrides(name); !overrides.empty())
+        throw InputError("--set", "'Body " + name + ":" + overrides.front().path + "': body '" + name +
+                                    "' is rigid: it has no body scene whose entries could be set");
       RigidProperties properties;
       try
         {
@@ -269,7 +280,7 @@ std::unique_ptr<FloatingBody> make_body(ParameterHandler &prm, const std::string
   FlexibleOptions options = FloatingBody::parse_flexible_parameters(prm);
   options.make_rigid = options.make_rigid || settings.flexible_as_rigid;
   std::string source;
-  auto reduced = flexible.obtain(prm, prefix, source);
+  auto reduced = flexible.obtain(prm, name, source);
   auto body = std::make_unique<FloatingBody>(name, reduced, options, initial);
   d << (options.make_rigid ? "flexible made rigid" : "flexible") << ", " << body->n_modes() << " modes, "
     << reduced->invariants.mass << " kg (" << source << ")";
@@ -317,6 +328,12 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
       MultibodyScene scene;
       scene.file = file.name;
       scene.names = SceneNames::parse_name_lists(*file.lists);
+      for (const auto &o : file.overrides)
+        if (!o.scope.empty() && std::find(scene.names.bodies.begin(), scene.names.bodies.end(), o.scope.substr(5)) ==
+                                  scene.names.bodies.end())
+          throw InputError("--set", "'" + base::printable_excerpt(o.text(), 200) + "': the scene has no body '" +
+                                      base::printable_excerpt(o.scope.substr(5), 80) + "'; its bodies: " +
+                                      base::joined(scene.names.bodies));
       // Pass 2: everything, strictly.
       scene.parameters = std::make_shared<ParameterHandler>();
       auto &prm = *scene.parameters;

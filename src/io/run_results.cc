@@ -1,5 +1,6 @@
 // Results of a multibody run (run_results.h).
 #include <base/input_error.h>
+#include <base/text.h>
 #include <io/hdf5_file.h>
 #include <io/run_results.h>
 
@@ -24,12 +25,7 @@ std::vector<double> monitor_row(const multibody::MonitorValues &m, const double 
           m.springs, m.work_applied, m.work_drivers, m.dissipated, balance_error};
 }
 
-std::string joined(const std::vector<std::string> &names)
-{
-  std::string s;
-  for (const auto &n : names) s += (s.empty() ? "" : "; ") + n;
-  return s;
-}
+std::string joined(const std::vector<std::string> &names) { return base::joined(names, "; "); }
 } // namespace
 
 IncrementalCsv::IncrementalCsv(OutputFolder &folder, const std::string &file_name, const std::vector<std::string> &columns)

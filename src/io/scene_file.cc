@@ -209,7 +209,27 @@ void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const
     {
       throw InputError("", base::printable_excerpt(base::parse_error_text(e), 400), name);
     }
+  try
+    {
+      apply_overrides(prm, overrides, "", skip_undefined);
+    }
+  catch (const InputError &e)
+    {
+      throw e.in_file(name);
+    }
   refuse_subnormal_numbers(prm, name);
+}
+
+std::vector<ParameterOverride> SceneFile::overrides_of(const std::string &body_name) const
+{
+  std::vector<ParameterOverride> own;
+  for (auto o : overrides)
+    if (o.scope == "Body " + body_name)
+      {
+        o.scope.clear();
+        own.push_back(o);
+      }
+  return own;
 }
 
 namespace
@@ -236,10 +256,12 @@ bool has_entries(const std::string &text, const bool json)
 }
 } // namespace
 
-SceneFile SceneFile::from_text(const std::string &text, const std::string &directory, const bool json)
+SceneFile SceneFile::from_text(const std::string &text, const std::string &directory, const bool json,
+                               const std::vector<ParameterOverride> &overrides)
 {
   SceneFile scene;
   scene.name = "<string>";
+  scene.overrides = overrides;
   scene.directory = directory;
   scene.json = json;
   if (json)
@@ -261,13 +283,13 @@ SceneFile SceneFile::from_text(const std::string &text, const std::string &direc
   return scene;
 }
 
-SceneFile SceneFile::read(const std::string &file)
+SceneFile SceneFile::read(const std::string &file, const std::vector<ParameterOverride> &overrides)
 {
   const auto parent = fs::path(file).parent_path().string();
   const bool json = fs::path(file).extension() == ".json";
   try
     {
-      auto scene = from_text(read_bytes(file, "parameter file"), parent.empty() ? "." : parent, json);
+      auto scene = from_text(read_bytes(file, "parameter file"), parent.empty() ? "." : parent, json, overrides);
       scene.name = file;
       return scene;
     }

@@ -16,6 +16,8 @@
 // includes itself is refused), JSON nested at most 64 deep.
 #pragma once
 
+#include <io/parameter_overrides.h>
+
 #include <deal.II/base/parameter_handler.h>
 
 #include <memory>
@@ -33,11 +35,16 @@ struct SceneFile
   std::string model;     ///< the "Model" entry: arm, solid or body
   /// Pass 1: "Model" and every list of names (see scene_file.cc), parsed leniently.
   std::shared_ptr<dealii::ParameterHandler> lists;
+  /// Entries set on the command line (--set): those of scope "" are applied by parse() after the
+  /// text; those of scope "Body NAME" belong to that body's body scene (overrides_of()).
+  std::vector<ParameterOverride> overrides;
 
-  /// Reads @p file (InputError naming it if it cannot be read or parsed).
-  static SceneFile read(const std::string &file);
+  /// Reads @p file (InputError naming it if it cannot be read or parsed), with @p overrides
+  /// (applied in pass 1 too, so that they may change the lists of names).
+  static SceneFile read(const std::string &file, const std::vector<ParameterOverride> &overrides = {});
   /// The same from text (tests); @p directory resolves relative file names.
-  static SceneFile from_text(const std::string &text, const std::string &directory = ".", bool json = false);
+  static SceneFile from_text(const std::string &text, const std::string &directory = ".", bool json = false,
+                             const std::vector<ParameterOverride> &overrides = {});
 
   /// True if the text opens `subsection SUBSECTION` (a .prm file) or has the key "SUBSECTION"
   /// (JSON): a listed instance without its subsection would get every default silently.
@@ -49,8 +56,11 @@ struct SceneFile
   /// declared"). Only the keys named are touched; a .prm scene is returned unchanged.
   SceneFile with_mangled_json_keys(const std::vector<std::string> &subsections) const;
 
-  /// Parses the text into @p prm; deal.II's errors become InputError naming this file.
+  /// Parses the text into @p prm, then sets the overrides of scope ""; deal.II's errors become
+  /// InputError naming this file.
   void parse(dealii::ParameterHandler &prm, bool skip_undefined) const;
+  /// The overrides for the body scene of body @p body_name, as overrides of that scene itself.
+  std::vector<ParameterOverride> overrides_of(const std::string &body_name) const;
 };
 
 /// Declares the one top-level "Model" entry (every scene kind).

@@ -218,6 +218,30 @@ CASES = {
         files={"s.prm": hostile_scenes.parametric("0.1*cos(t)", "0.1*sin(t)", "0.001*t/(2*pi)", start="0",
                                                   end="1256.6370614359173")},
         args=["modes", "s.prm"], status=0, outputs=["frequencies.csv"]),
+    # Issue 26, item 1: --set is checked like the file's own entries; a misspelt name gets the
+    # nearest declared ones, a bad value the entry's allowed values; nothing is written.
+    "set_misspelt_entry": dict(
+        files={"s.prm": pendulum()}, args=["run", "s.prm", "--set", "Multibody/End tme=2"],
+        regex=r"--set.*'Multibody/End tme=2': there is no entry or subsection 'End tme' in subsection 'Multibody'; "
+              r"nearest declared: 'End time'", entry="--set"),
+    "set_misspelt_subsection": dict(
+        files={"s.prm": pendulum()}, args=["run", "s.prm", "--set", "Multibdy/End time=2"],
+        regex=r"there is no entry or subsection 'Multibdy' at the top level; nearest declared: 'Multibody'", entry="--set"),
+    "set_value_outside_pattern": dict(
+        files={"s.prm": pendulum()}, args=["run", "s.prm", "--set", "Joint pivot/Kind=hinge"],
+        regex=r"--set.*'Joint pivot/Kind=hinge'.*hinge.*(revolute|allowed|match)", entry="--set"),
+    "set_unknown_body_scope": dict(
+        files={"s.prm": pendulum()}, args=["run", "s.prm", "--set", "Body ghost:Reduction/Number of normal modes=4"],
+        regex=r"the scene has no body 'ghost'; its bodies: bob", entry="--set"),
+    "set_rigid_body_scope": dict(
+        files={"s.prm": pendulum()}, args=["run", "s.prm", "--set", "Body bob:Reduction/Number of normal modes=4"],
+        regex=r"body 'bob' is rigid: it has no body scene", entry="--set"),
+    "set_without_equals": dict(
+        files={"s.prm": pendulum()}, args=["run", "s.prm", "--set", "Multibody/End time"],
+        regex=r"expected ENTRY=VALUE", entry="--set", names_file=False),
+    "set_value_with_a_line_break": dict(
+        files={"s.prm": pendulum()}, args=["run", "s.prm", "--set", "Multibody/End time=1\nset Gravity = 0, 0, 0"],
+        regex=r"a line break, '#' or a NUL character is not allowed", entry="--set", names_file=False),
     # Issue 24: 'auto' or a number in the two entries chosen for the scene by default.
     "maximum_order_seven": dict(
         files={"s.prm": pendulum(integrator="    set Maximum order = 7")}, args=["run", "s.prm"],
