@@ -221,7 +221,8 @@ int run_command(const Options &options, const io::SceneFile &file)
   integrator.initialize(settings.start_time, y, yp);
   monitors.attach(integrator);
   const MonitorValues start = monitors.evaluate(settings.start_time, y);
-  recorder.record(settings.start_time, y, start, 0.0);
+  multibody::EnergyBalance balance(start);
+  recorder.record(settings.start_time, y, start, balance.error(start));
   if (settings.rigid_reference) paths.record(settings.start_time, y);
 
   std::unique_ptr<io::AnimationWriter> animation;
@@ -243,7 +244,7 @@ int run_command(const Options &options, const io::SceneFile &file)
     TimerOutput::Scope t(timer, "time integration");
     failure = integrate(system, integrator, settings, [&](const double time, const Vector<double> &state) {
       const MonitorValues m = monitors.evaluate(time, state);
-      recorder.record(time, state, m, multibody::Monitors::balance_error(start, m));
+      recorder.record(time, state, m, balance.error(m));
       if (settings.rigid_reference) paths.record(time, state);
       animate(time, state);
       progress.update(time, integrator.statistics().steps);

@@ -62,7 +62,7 @@ void Solid::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Mesh", "box", dealii::Patterns::Selection("box|cylinder|file"),
                     "Where the hexahedral mesh comes from: 'box' or 'cylinder' (generated, see the subsections of "
                     "those names) or 'file' (Mesh file).");
-  prm.declare_entry("Mesh file", "", dealii::Patterns::Anything(),
+  prm.declare_entry("Mesh file", "", dealii::Patterns::FileName(dealii::Patterns::FileName::input),
                     "Mesh file, relative to the parameter file, coordinates in m: Abaqus/CalculiX .inp (C3D8 or "
                     "C3D20 hexahedra, *NSET node sets) or Gmsh .msh (2.2 or 4.1 ASCII; 8- or 20-node hexahedra; "
                     "physical groups become node sets).");

@@ -520,7 +520,7 @@ std::shared_ptr<const Curve> create_arc_length(ParameterHandler &prm, const Pars
 void declare_spline(ParameterHandler &prm)
 {
   prm.enter_subsection("Spline");
-  prm.declare_entry("Points file", "", Anything(),
+  prm.declare_entry("Points file", "", dealii::Patterns::FileName(dealii::Patterns::FileName::input),
                     "Text file with one point \"x y z\" [m] per line (blanks or commas; # starts a "
                     "comment), relative to the parameter file's directory. A natural cubic spline in "
                     "chord length interpolates the points. At most 100000 points, each coordinate at most "

@@ -4,6 +4,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -11,12 +12,14 @@ namespace flextrack::geometry
 {
 namespace
 {
-const std::set<std::string> known_functions = {"sin", "cos", "tan", "exp", "log", "sqrt",
-                                               "sinh", "cosh", "tanh", "atan", "abs"};
+/// Every function with its number of arguments.
+const std::map<std::string, int> known_functions = {
+  {"sin", 1},  {"cos", 1},  {"tan", 1},  {"exp", 1}, {"log", 1}, {"sqrt", 1}, {"sinh", 1},       {"cosh", 1},
+  {"tanh", 1}, {"atan", 1}, {"abs", 1},  {"min", 2}, {"max", 2}, {"if", 3},   {"step", 1}, {"smoothstep", 1}};
 std::string function_list()
 {
   std::string s;
-  for (const auto &f : known_functions) s += (s.empty() ? "" : " ") + f;
+  for (const auto &[f, n] : known_functions) s += (s.empty() ? "" : " ") + f;
   return s;
 }
 } // namespace
@@ -33,10 +36,10 @@ Expression::Expression(const std::string &text, const std::string &variable,
   skip_blanks();
   if (pos == source.size())
     fail("an expression, but the text is empty");
-  root = parse_sum();
+  root = parse_comparison();
   skip_blanks();
   if (pos != source.size())
-    fail("an operator (+ - * / ^) or the end of the expression");
+    fail("an operator (+ - * / ^ < > <= >=) or the end of the expression");
 }
 
 Expression::Level::Level(Expression &e) : expression(e)
@@ -62,6 +65,19 @@ void Expression::fail_because(const std::string &reason) const
 void Expression::skip_blanks()
 {
   while (pos < source.size() && std::isspace(static_cast<unsigned char>(source[pos]))) ++pos;
+}
+
+int Expression::parse_comparison()
+{
+  const int left = parse_sum();
+  skip_blanks();
+  if (pos >= source.size() || (source[pos] != '<' && source[pos] != '>')) return left;
+  const bool less = source[pos++] == '<';
+  const bool or_equal = pos < source.size() && source[pos] == '=';
+  if (or_equal) ++pos;
+  const int right = parse_sum();
+  const Op op = less ? (or_equal ? Op::less_equal : Op::less) : (or_equal ? Op::greater_equal : Op::greater);
+  return add({op, 0, left, right, {}});
 }
 
 int Expression::parse_sum()
@@ -135,7 +151,7 @@ int Expression::parse_primary()
     {
       ++pos;
       const Level level(*this);
-      const int inner = parse_sum();
+      const int inner = parse_comparison();
       skip_blanks();
       if (pos >= source.size() || source[pos] != ')')
         fail("')'");
@@ -164,19 +180,35 @@ int Expression::parse_primary()
       skip_blanks();
       if (pos < source.size() && source[pos] == '(')
         {
-          if (known_functions.count(name) == 0)
+          const auto known = known_functions.find(name);
+          if (known == known_functions.end())
             {
               pos = start;
               fail("a known function (" + function_list() + "), not \"" + base::printable_excerpt(name, 40) + "\"");
             }
           ++pos;
           const Level level(*this);
-          const int argument = parse_sum();
+          int arguments[3] = {-1, -1, -1};
+          for (int k = 0; k < known->second; ++k)
+            {
+              if (k > 0)
+                {
+                  skip_blanks();
+                  if (pos >= source.size() || source[pos] != ',')
+                    fail("',' and argument " + std::to_string(k + 1) + " of " + name + " (it takes " +
+                         std::to_string(known->second) + ")");
+                  ++pos;
+                }
+              arguments[k] = parse_comparison();
+            }
           skip_blanks();
           if (pos >= source.size() || source[pos] != ')')
-            fail("')' after the argument of " + name);
+            fail("')' after the " + std::string(known->second == 1 ? "argument" : "arguments") + " of " + name +
+                 " (it takes " + std::to_string(known->second) + ")");
           ++pos;
-          return add({Op::func, 0, argument, -1, name});
+          Node call{Op::func, 0, arguments[0], arguments[1], name};
+          call.c = arguments[2];
+          return add(call);
         }
       if (name == variable_name)
         return add({Op::variable, 0, -1, -1, {}});
@@ -217,6 +249,10 @@ Jet Expression::evaluate_node(const Node &n, const Jet *values, const Jet &x) co
       case Op::mul: return values[n.a] * values[n.b];
       case Op::div: return values[n.a] / values[n.b];
       case Op::neg: return -values[n.a];
+      case Op::less: return Jet::constant(values[n.a].c[0] < values[n.b].c[0] ? 1 : 0);
+      case Op::greater: return Jet::constant(values[n.a].c[0] > values[n.b].c[0] ? 1 : 0);
+      case Op::less_equal: return Jet::constant(values[n.a].c[0] <= values[n.b].c[0] ? 1 : 0);
+      case Op::greater_equal: return Jet::constant(values[n.a].c[0] >= values[n.b].c[0] ? 1 : 0);
       case Op::pow:
         {
           const Jet &base = values[n.a], &exponent = values[n.b];
@@ -244,6 +280,18 @@ Jet Expression::evaluate_node(const Node &n, const Jet *values, const Jet &x) co
           if (f == "sqrt") return sqrt(a);
           if (f == "atan") return atan(a);
           if (f == "abs") return a.c[0] < 0 ? -a : a;
+          if (f == "min") return values[n.b].c[0] < a.c[0] ? values[n.b] : a;
+          if (f == "max") return values[n.b].c[0] > a.c[0] ? values[n.b] : a;
+          if (f == "if") return a.c[0] != 0 ? values[n.b] : values[n.c];
+          if (f == "step") return Jet::constant(a.c[0] >= 0 ? 1 : 0);
+          if (f == "smoothstep")
+            {
+              if (a.c[0] <= 0) return Jet::constant(0);
+              if (a.c[0] >= 1) return Jet::constant(1);
+              // 10 a^3 - 15 a^4 + 6 a^5 = a^3 (10 + a (-15 + 6 a))
+              const Jet inner = Jet::constant(10) + a * (Jet::constant(-15) + 6.0 * a);
+              return a * a * a * inner;
+            }
         }
     }
   return Jet(); // unreachable: the parser only creates known nodes

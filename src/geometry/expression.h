@@ -4,6 +4,11 @@
 // their derivatives need exact first to fourth derivatives of the curve. This parser accepts
 // the muParser syntax users already know (+ - * / ^, parentheses, sin cos tan exp log sqrt
 // sinh cosh tanh atan abs, the constant pi, and named user constants) and evaluates on jets.
+// For laws of time that switch (a ramp and hold, a drive that starts at t0): the comparisons
+// < > <= >= (1 if true, else 0), min(a, b), max(a, b), if(c, a, b) (a where c is not 0, else b),
+// step(x) (0 for x < 0, 1 from x = 0 on) and smoothstep(x) (0 for x <= 0, 1 for x >= 1, and
+// 6x^5 - 15x^4 + 10x^3 between: value, slope and curvature continuous, so a drive built on it
+// has a continuous acceleration).
 //
 // Limits (a scene may come from someone else, and a parser must not crash on it):
 //  - an expression holds at most max_expression_length = 10000 characters;
@@ -51,13 +56,14 @@ public:
   const std::string &text() const { return source; }
 
 private:
-  enum class Op { constant, variable, add, sub, mul, div, pow, neg, func };
+  enum class Op { constant, variable, add, sub, mul, div, pow, neg, func, less, greater, less_equal, greater_equal };
   struct Node
   {
     Op op;
     double value = 0;   // for constants
     int a = -1, b = -1; // operand node indices
     std::string function;
+    int c = -1;         // third operand (if)
   };
 
   Jet evaluate(const Jet &x) const;
@@ -65,6 +71,7 @@ private:
   Jet evaluate_node(const Node &n, const Jet *values, const Jet &x) const;
 
   // Recursive-descent parser over `source`, position `pos`.
+  int parse_comparison();
   int parse_sum();
   int parse_product();
   int parse_unary();

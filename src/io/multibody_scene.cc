@@ -32,12 +32,12 @@ void declare_body_source(ParameterHandler &prm)
   prm.declare_entry("Kind", "rigid", Patterns::Selection("rigid|flexible"),
                     "Kind of body [-]: 'rigid' (Mass, Centre of mass, Inertia) or 'flexible' (a reduced body "
                     "from 'Body scene' or 'Reduced body file').");
-  prm.declare_entry("Body scene", "", Patterns::Anything(),
+  prm.declare_entry("Body scene", "", Patterns::FileName(Patterns::FileName::input),
                     "Flexible body: a 'Model = body' scene file (relative to this scene's folder). It is reduced "
                     "on demand; the reduced body is kept where 'flextrack reduce' keeps it (the body scene's "
                     "Output/Directory, else output/<its name>/reduced_body.h5) and reused while its inputs "
                     "are unchanged [-].");
-  prm.declare_entry("Reduced body file", "", Patterns::Anything(),
+  prm.declare_entry("Reduced body file", "", Patterns::FileName(Patterns::FileName::input),
                     "Flexible body: a reduced body file (.h5, written by 'flextrack reduce'; relative to this "
                     "scene's folder) [-].");
 }

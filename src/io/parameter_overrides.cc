@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <sstream>
@@ -19,23 +20,9 @@ namespace
 {
 using Tree = boost::property_tree::ptree;
 
-/// deal.II's keys with their "_XX" escapes (hexadecimal character codes) undone.
-std::string demangled(const std::string &key)
-{
-  std::string out;
-  for (std::size_t i = 0; i < key.size(); ++i)
-    if (key[i] == '_' && i + 2 < key.size() && std::isxdigit(static_cast<unsigned char>(key[i + 1])) &&
-        std::isxdigit(static_cast<unsigned char>(key[i + 2])))
-      {
-        out += static_cast<char>(std::stoi(key.substr(i + 1, 2), nullptr, 16));
-        i += 2;
-      }
-    else
-      out += key[i];
-  return out;
-}
-
-/// Every declared entry and subsection of @p prm, demangled; an entry is a node with a "value".
+/// Every declared entry and subsection of @p prm (deal.II 9.4 prints JSON with its keys demangled:
+/// "Probe bob_centre"); an entry is a node with a "value",
+/// marked "entry", or "file entry" when its pattern is a FileName.
 Tree declared_tree(const dealii::ParameterHandler &prm)
 {
   std::stringstream json;
@@ -47,16 +34,19 @@ Tree declared_tree(const dealii::ParameterHandler &prm)
     for (const auto &[key, child] : node)
       {
         if (child.count("value"))
-          out.push_back({demangled(key), Tree("entry")});
+          {
+            const bool file = child.get<std::string>("pattern_description", "").find("[FileName") == 0;
+            out.push_back({key, Tree(file ? "file entry" : "entry")});
+          }
         else if (!child.empty())
-          out.push_back({demangled(key), clean(child)});
+          out.push_back({key, clean(child)});
       }
     return out;
   };
   return clean(raw);
 }
 
-bool is_entry(const Tree &node) { return node.empty() && node.data() == "entry"; }
+bool is_entry(const Tree &node) { return node.empty() && (node.data() == "entry" || node.data() == "file entry"); }
 
 /// The subsections and the entry of @p path in @p tree: the longest chain of subsections that
 /// leaves an entry name (which may itself hold a '/'); nothing if there is no such entry.
@@ -211,6 +201,26 @@ void apply_overrides(dealii::ParameterHandler &prm, const std::vector<ParameterO
                                       base::printable_excerpt(base::parse_error_text(e), 400));
         }
     }
+}
+
+void make_file_entries_absolute(dealii::ParameterHandler &prm, const std::string &directory)
+{
+  const std::function<void(const Tree &)> visit = [&](const Tree &node) {
+    for (const auto &[key, child] : node)
+      if (child.data() == "file entry")
+        {
+          const std::string value = base::trim(prm.get(key));
+          if (!value.empty() && !std::filesystem::path(value).is_absolute())
+            prm.set(key, (std::filesystem::absolute(std::filesystem::path(directory) / value)).lexically_normal().string());
+        }
+      else if (!is_entry(child))
+        {
+          prm.enter_subsection(key);
+          visit(child);
+          prm.leave_subsection();
+        }
+  };
+  visit(declared_tree(prm));
 }
 
 std::vector<std::string> override_texts(const std::vector<ParameterOverride> &overrides)

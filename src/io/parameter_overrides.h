@@ -34,6 +34,11 @@ ParameterOverride parse_override(const std::string &text);
 void apply_overrides(dealii::ParameterHandler &prm, const std::vector<ParameterOverride> &overrides,
                      const std::string &scope, bool skip_undefined);
 
+/// Sets every input-file entry of @p prm (declared with Patterns::FileName: a body scene, a mesh,
+/// a spline's points) that holds a relative path to the absolute path it names from
+/// @p directory (the scene file's folder), so that parameters_used.prm runs from any folder.
+void make_file_entries_absolute(dealii::ParameterHandler &prm, const std::string &directory);
+
 /// The overrides of @p scope, as "PATH=VALUE" texts (for summary.json).
 std::vector<std::string> override_texts(const std::vector<ParameterOverride> &overrides);
 

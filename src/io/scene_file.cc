@@ -212,6 +212,7 @@ void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const
   try
     {
       apply_overrides(prm, overrides, "", skip_undefined);
+      if (!skip_undefined) make_file_entries_absolute(prm, directory);
     }
   catch (const InputError &e)
     {

@@ -114,11 +114,11 @@ MonitorValues Monitors::evaluate(const double t, const Vector<double> &y) const
   return m;
 }
 
-double Monitors::balance_error(const MonitorValues &start, const MonitorValues &now)
+double EnergyBalance::error(const MonitorValues &now)
 {
   const double balance = now.energy() - start.energy() - (now.work_applied + now.work_drivers - now.dissipated);
-  const double scale = std::max({std::abs(start.energy()), std::abs(now.work_applied), std::abs(now.work_drivers),
-                                 std::abs(now.dissipated), now.kinetic, 1e-300});
+  scale = std::max({scale, now.kinetic, std::abs(now.gravity), std::abs(now.strain), std::abs(now.springs),
+                    std::abs(now.work_applied), std::abs(now.work_drivers), std::abs(now.dissipated)});
   return balance / scale;
 }
 } // namespace flextrack::multibody

@@ -51,6 +51,43 @@ TEST(Expression, jets_give_exact_derivatives_of_composite_functions)
   for (int k = 1; k <= 4; ++k) expect_close(one.derivative(k), 0.0, 1e-13, "d^k(1)");
 }
 
+TEST(Expression, switching_functions_and_comparisons_for_laws_of_time)
+{
+  // Issue 25, item 14: a ramp-and-hold drive without tanh tricks. Values against the definitions
+  // in expression.h; derivatives of smoothstep against its closed form
+  // s(x) = 10x^3 - 15x^4 + 6x^5, s' = 30x^2 (1 - x)^2, s'' = 60x (1 - x)(1 - 2x), at x = 0.3.
+  const Expression ramp_and_hold("0.5 * min(t, 2)", "t");
+  EXPECT_EQ(ramp_and_hold.value(1), 0.5);
+  EXPECT_EQ(ramp_and_hold.value(3), 1.0);
+  EXPECT_EQ(ramp_and_hold.jet(1).derivative(1), 0.5);
+  EXPECT_EQ(ramp_and_hold.jet(3).derivative(1), 0.0);
+  const Expression later("if(t >= 1, (t - 1)^2, 0) + max(0, -t) + step(t - 4) * 7 + (t < 0.5) + (t > 9) + (t <= 2)", "t");
+  EXPECT_EQ(later.value(0.25), 0.0 + 0 + 0 + 1 + 0 + 1);
+  EXPECT_EQ(later.value(3), 4.0 + 0 + 0 + 0 + 0 + 0);
+  EXPECT_EQ(later.value(4), 9.0 + 7);
+  EXPECT_EQ(later.value(-2), 0.0 + 2 + 0 + 1 + 0 + 1);
+  EXPECT_EQ(later.jet(3).derivative(1), 4.0);
+  const Expression smooth("smoothstep(t)", "t");
+  const double x = 0.3;
+  const Jet j = smooth.jet(x);
+  expect_close(j.derivative(0), 10 * std::pow(x, 3) - 15 * std::pow(x, 4) + 6 * std::pow(x, 5), 1e-15, "s");
+  expect_close(j.derivative(1), 30 * x * x * (1 - x) * (1 - x), 1e-14, "s'");
+  expect_close(j.derivative(2), 60 * x * (1 - x) * (1 - 2 * x), 1e-13, "s''");
+  EXPECT_EQ(smooth.value(-1), 0.0);
+  EXPECT_EQ(smooth.value(1.5), 1.0);
+  // Wrong numbers of arguments are parse errors that say how many the function takes.
+  for (const char *text : {"min(t)", "if(t, 1)", "step(t, 2)", "t < "})
+    EXPECT_THROW(Expression(text, "t"), ExpressionError) << text;
+  try
+    {
+      Expression("max(t)", "t");
+    }
+  catch (const ExpressionError &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("(it takes 2)"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Expression, errors_name_position_and_expectation)
 {
   try

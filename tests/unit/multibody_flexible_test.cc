@@ -81,12 +81,13 @@ Drift run_free_rod(const bool stiffening, const double t_end, const double rtol)
   Vector3 P0, L0, P, L;
   s.body(1).momentum(s.q_of(1, y), s.v_of(1, y), P0, L0);
   const MonitorValues m0 = monitors.evaluate(0, y);
+  EnergyBalance balance(m0);
   Drift d;
   ida.integrate(t_end, t_end / 50, [&](double t, const Vector<double> &yy, const Vector<double> &) {
     s.body(1).momentum(s.q_of(1, yy), s.v_of(1, yy), P, L);
     d.momentum = std::max(d.momentum, (P - P0).norm() / P0.norm());
     d.angular_momentum = std::max(d.angular_momentum, (L - L0).norm() / L0.norm());
-    d.energy = std::max(d.energy, std::abs(Monitors::balance_error(m0, monitors.evaluate(t, yy))));
+    d.energy = std::max(d.energy, std::abs(balance.error(monitors.evaluate(t, yy))));
   });
   const auto st = ida.statistics();
   std::cout << "  free rod (" << rod->n_modes() << " modes, stiffening " << (stiffening ? "on" : "off") << ", rtol "
