@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 namespace flextrack::io
@@ -193,6 +194,66 @@ std::string with_demanglable_keys(const std::string &text)
 }
 } // namespace
 
+namespace
+{
+/// The subsections open at line @p line (1-based) of a .prm text, outermost first.
+std::vector<std::string> subsections_at(const std::string &text, const unsigned int line)
+{
+  std::vector<std::string> open;
+  std::istringstream lines(text);
+  std::string l;
+  for (unsigned int n = 1; n < line && std::getline(lines, l); ++n)
+    {
+      l = base::trim(l.substr(0, l.find('#')));
+      if (l.rfind("subsection ", 0) == 0)
+        open.push_back(base::trim(l.substr(11)));
+      else if (l == "end" && !open.empty())
+        open.pop_back();
+    }
+  return open;
+}
+
+/// deal.II's message for a misspelt name or value, said with the subsection it is in, the nearest
+/// declared names and the allowed values (issue 25, item 6: deal.II names neither the subsection
+/// nor the name meant, and prints a selection as its raw pattern). Other messages are returned
+/// as they are.
+std::string explained_parse_error(const std::string &message, const std::string &text, const ParameterHandler &prm)
+{
+  std::smatch m;
+  if (!std::regex_search(message, m, std::regex(R"(Line <(\d+)>)"))) return message;
+  const unsigned int line = std::stoul(m[1]);
+  const std::vector<std::string> open = subsections_at(text, line);
+  const std::string path = base::joined(open, "/");
+  const std::string where = "line " + std::to_string(line) + " of the scene (expanded includes)" +
+                            (path.empty() ? std::string(", at the top level") : ", in subsection '" + path + "'");
+  const auto nearest = [&](const std::string &section, const std::string &name) {
+    const auto names = nearest_declared_names(prm, section, name);
+    std::string s;
+    for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", '" : "'") + names[i] + "'";
+    return s.empty() ? std::string(" (flextrack print-parameters lists every entry)")
+                     : "; nearest declared: " + s + " (flextrack print-parameters lists every entry)";
+  };
+  if (std::regex_search(message, m, std::regex(R"(No entry with name <(.*)> was declared)")))
+    return where + ": there is no entry '" + base::printable_excerpt(m[1], 80) + "'" + nearest(path, m[1]);
+  if (std::regex_search(message, m, std::regex(R"(There is no such subsection to be entered: (.*)$)")))
+    {
+      // The subsection is opened at this line: it is not part of the path yet.
+      const std::string name = base::trim(m[1]);
+      return where + ": there is no subsection '" + base::printable_excerpt(name, 80) + "'" + nearest(path, name);
+    }
+  if (std::regex_search(message, m, std::regex(R"(for the entry named (.*) does not match the given pattern: \[Selection (.*) \])")))
+    {
+      std::string allowed = m[2];
+      for (std::size_t i = 0; (i = allowed.find('|', i)) != std::string::npos;) allowed.replace(i, 1, ", ");
+      const std::size_t value_at = message.find("The entry value ");
+      const std::string value =
+        value_at == std::string::npos ? "" : message.substr(value_at + 16, message.find(" for the entry named") - value_at - 16);
+      return where + ": entry '" + std::string(m[1]) + "' is '" + value + "'; allowed: " + allowed;
+    }
+  return message;
+}
+} // namespace
+
 void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const
 {
   try
@@ -207,7 +268,8 @@ void SceneFile::parse(ParameterHandler &prm, const bool skip_undefined) const
     }
   catch (const dealii::ExceptionBase &e)
     {
-      throw InputError("", base::printable_excerpt(base::parse_error_text(e), 400), name);
+      const std::string message = base::parse_error_text(e);
+      throw InputError("", base::printable_excerpt(json ? message : explained_parse_error(message, text, prm), 400), name);
     }
   try
     {

@@ -218,6 +218,18 @@ CASES = {
         files={"s.prm": hostile_scenes.parametric("0.1*cos(t)", "0.1*sin(t)", "0.001*t/(2*pi)", start="0",
                                                   end="1256.6370614359173")},
         args=["modes", "s.prm"], status=0, outputs=["frequencies.csv"]),
+    # Issue 25, item 6: a misspelt entry or subsection in the file gave deal.II's message without the
+    # subsection or the name meant; a misspelt selection printed the raw pattern.
+    "file_misspelt_entry": dict(
+        files={"s.prm": pendulum().replace("set End time", "set End tme")}, args=["run", "s.prm"],
+        regex=r"line \d+ of the scene .*, in subsection 'Multibody': there is no entry 'End tme'; nearest declared: "
+              r"'End time'", entry=""),
+    "file_misspelt_subsection": dict(
+        files={"s.prm": pendulum() + "subsection Joint pivto\n  set Kind = revolute\nend\n"}, args=["run", "s.prm"],
+        regex=r"at the top level: there is no subsection 'Joint pivto'; nearest declared: 'Joint pivot'", entry=""),
+    "file_selection_misspelt": dict(
+        files={"s.prm": pendulum().replace("set Kind     = revolute", "set Kind     = revolutee")}, args=["run", "s.prm"],
+        regex=r"in subsection 'Joint pivot': entry 'Kind' is 'revolutee'; allowed: fixed, revolute, spherical", entry=""),
     # Issue 26, item 1: --set is checked like the file's own entries; a misspelt name gets the
     # nearest declared ones, a bad value the entry's allowed values; nothing is written.
     "set_misspelt_entry": dict(
