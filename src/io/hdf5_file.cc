@@ -204,6 +204,23 @@ void Hdf5File::set_attribute(const std::string &object, const std::string &name,
     throw std::runtime_error("cannot write attribute '" + name + "' of '" + object + "'");
 }
 
+void Hdf5File::set_attribute(const std::string &object, const std::string &name, const std::vector<std::string> &values)
+{
+  std::size_t width = 1;
+  for (const auto &v : values) width = std::max(width, v.size());
+  std::string packed(width * values.size(), '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) packed.replace(i * width, values[i].size(), values[i]);
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, width);
+  H5Tset_strpad(type.id, H5T_STR_NULLPAD);
+  const hsize_t n = values.size();
+  Handle space{H5Screate_simple(1, &n, nullptr), H5Sclose};
+  Handle a{H5Acreate_by_name(file, object.c_str(), name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose};
+  if (a.id < 0 || (n > 0 && H5Awrite(a.id, type.id, packed.data()) < 0))
+    throw std::runtime_error("cannot write attribute '" + name + "' of '" + object + "'");
+}
+
 void Hdf5File::set_attribute(const std::string &object, const std::string &name, const long long value)
 {
   Handle space{H5Screate(H5S_SCALAR), H5Sclose};

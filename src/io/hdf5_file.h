@@ -37,6 +37,8 @@ public:
   /// A text as a scalar dataset of one fixed-length string (an attribute holds at most 64 KiB).
   void write_text(const std::string &path, const std::string &text);
   void set_attribute(const std::string &object, const std::string &name, long long value);
+  /// A 1-D attribute of fixed-length strings (one per column of a dataset: its names).
+  void set_attribute(const std::string &object, const std::string &name, const std::vector<std::string> &values);
   /// A dataset of doubles that grows by rows: [0 x columns] at first ([0] for columns = 0),
   /// stored in chunks of about 64 KiB, or of @p expected_rows rows when that is less.
   void create_growing(const std::string &path, hsize_t columns, hsize_t expected_rows);

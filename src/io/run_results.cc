@@ -1,6 +1,5 @@
 // Results of a multibody run (run_results.h).
 #include <base/input_error.h>
-#include <base/text.h>
 #include <io/hdf5_file.h>
 #include <io/run_results.h>
 
@@ -25,7 +24,6 @@ std::vector<double> monitor_row(const multibody::MonitorValues &m, const double 
           m.springs, m.work_applied, m.work_drivers, m.dissipated, balance_error};
 }
 
-std::string joined(const std::vector<std::string> &names) { return base::joined(names, "; "); }
 } // namespace
 
 IncrementalCsv::IncrementalCsv(OutputFolder &folder, const std::string &file_name, const std::vector<std::string> &columns)
@@ -87,7 +85,7 @@ void RunRecorder::create_hdf5(const std::string &path, const unsigned long long 
         f.create_growing(set, n, expected_rows);
         std::vector<std::string> names;
         for (hsize_t i = 0; i < n; ++i) names.push_back(system.component_name(first + i));
-        f.set_attribute(set, "names", joined(names));
+        f.set_attribute(set, "names", names); // one per column
       };
       named("/coordinates", 0, nq);
       named("/velocities", nq, nv);
@@ -116,8 +114,10 @@ void RunRecorder::create_hdf5(const std::string &path, const unsigned long long 
           f.set_attribute(g, "frame", probe->frame_name());
           f.create_growing(g + "/position", 3, expected_rows);
           f.set_attribute(g + "/position", "unit", "m");
+          f.set_attribute(g + "/position", "frame", probe->frame_name());
           f.create_growing(g + "/velocity", 3, expected_rows);
           f.set_attribute(g + "/velocity", "unit", "m/s");
+          f.set_attribute(g + "/velocity", "frame", probe->frame_name());
         }
     }
   catch (const std::runtime_error &e)

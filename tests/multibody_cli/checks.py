@@ -110,9 +110,12 @@ def results_match_csv(out, probes, probe):
         worst = max(abs(position[i][0] - probes[probe + "_x_m"][i]) for i in range(n))
         # The CSV carries 12 significant digits of the same numbers: 1e-11 m at |x| < 1 m.
         check(worst < 1e-11, f"results.h5 probe positions equal probes.csv ({worst:.1e} m)")
-        names = f["coordinates"].attrs["names"]
-        names = names.decode() if isinstance(names, bytes) else names
-        check("body bob, R_x" in names, "coordinate names stored with the coordinates")
+        # Issue 25, item 11: one name per column (it was one "; "-joined string).
+        names = [n.decode() if isinstance(n, bytes) else n for n in f["coordinates"].attrs["names"]]
+        check(len(names) == f["coordinates"].shape[1] and "body bob, R_x" in names,
+              f"one coordinate name per column ({len(names)} for {f['coordinates'].shape[1]})")
+        frame = f["probes/" + probe + "/position"].attrs["frame"]
+        check((frame.decode() if isinstance(frame, bytes) else frame) == "global", "the probe's frame (global) on its dataset")
         check("pivot" in f["reactions"], "joint reactions stored")
 
 
