@@ -37,6 +37,8 @@ flextrack_multibody_check(run_energy_balance_stays_small_at_turning_points energ
                           ${CMAKE_SOURCE_DIR}/prm/pendulum.prm)
 flextrack_multibody_check(run_parameters_used_reruns_from_another_folder parameters_used_reruns
                           ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_on_arc.prm)
+flextrack_multibody_check(linearize_neutral_slider_is_not_called_unstable linearize_neutral_slider
+                          ${CMAKE_SOURCE_DIR}/prm/bench/default_slider_on_turning_arm.prm)
 flextrack_multibody_check(reduce_arm_body_without_solid_line_has_no_solid arm_body_without_solid_line
                           ${CMAKE_SOURCE_DIR}/prm/cantilever_body.prm)
 flextrack_multibody_check(run_json_scene_reads_like_prm json_like_prm ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_1s.json)
