@@ -110,3 +110,14 @@ file(WRITE ${MB_OUT}/flexible_from_h5.prm
 flextrack_multibody_check(run_flexible_from_reduced_body_file_matches_body_scene same_as_flexible ${MB_OUT}/flexible_from_h5.prm)
 set_tests_properties(cli_run_flexible_from_reduced_body_file_matches_body_scene PROPERTIES
   FIXTURES_REQUIRED curved_boom_reduced DEPENDS cli_run_flexible_pendulum_balances_energy TIMEOUT 600) # compares with its probes.csv
+
+# doc/tutorial.md run as written (issue 25, item 15): every file and command of it; the benchmark
+# step on its own, under the bench label.
+add_test(NAME cli_tutorial_runs_as_written
+  COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/tutorial/run_tutorial.py $<TARGET_FILE:flextrack>
+          ${CMAKE_SOURCE_DIR}/doc/tutorial.md ${MB_OUT}/tutorial --no-bench)
+set_tests_properties(cli_tutorial_runs_as_written PROPERTIES LABELS cli TIMEOUT 900)
+add_test(NAME bench_tutorial_benchmark_runs
+  COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/tutorial/run_tutorial.py $<TARGET_FILE:flextrack>
+          ${CMAKE_SOURCE_DIR}/doc/tutorial.md ${MB_OUT}/tutorial_bench --bench-only)
+set_tests_properties(bench_tutorial_benchmark_runs PROPERTIES LABELS bench TIMEOUT 1800)
