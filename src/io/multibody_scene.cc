@@ -284,6 +284,12 @@ std::unique_ptr<FloatingBody> make_body(ParameterHandler &prm, const std::string
   auto body = std::make_unique<FloatingBody>(name, reduced, options, initial);
   d << (options.make_rigid ? "flexible made rigid" : "flexible") << ", " << body->n_modes() << " modes, "
     << reduced->invariants.mass << " kg (" << source << ")";
+  // 'Geometric stiffening = true' (the default) needs the reduced body's geometric stiffness,
+  // which a body scene computes only when asked: said here, not switched off without a word
+  // (issue 25, item 4).
+  if (options.geometric_stiffening && !options.make_rigid && body->n_modes() > 0 && reduced->geometric_stiffness.empty())
+    d << "; no geometric stiffening: the reduced body holds no geometric stiffness (Reduction/Geometric "
+         "stiffness = true where it is reduced adds it, for a body that turns fast)";
   description = d.str();
   return body;
 }

@@ -539,6 +539,10 @@ end
     log = flextrack("run", "given.prm", "-o", "with_set", *sets)
     # Craig-Bampton: the normal modes and 6 interface modes of the tip (prm/cantilever_body.prm).
     check(re.search(r"body link: flexible, 10 modes", log) is not None, "the body scene's entry set by --set: 4 + 6 modes")
+    # Issue 25, item 4: Geometric stiffening = true (the default) on a body reduced without
+    # geometric stiffness (prm/cantilever_body.prm) is said in the log, not dropped silently.
+    check("no geometric stiffening: the reduced body holds no geometric stiffness" in log,
+          "the log says the body has no geometric stiffness to stiffen with")
     flextrack("run", "edited.prm", "-o", "edited")
     with open(os.path.join(out, "with_set", "probes.csv")) as a, open(os.path.join(out, "edited", "probes.csv")) as b:
         check(a.read() == b.read(), "probes.csv with --set equals that of the files edited by hand")
