@@ -127,6 +127,14 @@ std::vector<std::string> nearest_in(const Tree &tree, const std::string &path, c
   for (std::size_t i = 0; i < scored.size() && i < 5; ++i) names.push_back(scored[i].second);
   return names;
 }
+
+/// "; nearest declared: 'a', 'b' (...)", or only the pointer to print-parameters.
+std::string hint_text(const std::vector<std::string> &names)
+{
+  std::string s;
+  for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", '" : "'") + names[i] + "'";
+  return (s.empty() ? std::string() : "; nearest declared: " + s) + " (flextrack print-parameters lists every entry)";
+}
 } // namespace
 
 ParameterOverride parse_override(const std::string &text)
@@ -175,17 +183,11 @@ void apply_overrides(dealii::ParameterHandler &prm, const std::vector<ParameterO
       if (r.entry.empty())
         {
           if (skip_undefined) continue;
-          const auto near = nearest_in(*tree, r.deepest, r.missing);
-          std::string message = "'" + base::printable_excerpt(o.text(), 200) + "': there is no entry or subsection '" +
-                                base::printable_excerpt(r.missing, 80) + "' " +
-                                (r.deepest.empty() ? std::string("at the top level") : "in subsection '" + r.deepest + "'");
-          if (!near.empty())
-            {
-              message += "; nearest declared: ";
-              for (std::size_t i = 0; i < near.size(); ++i) message += (i ? ", '" : "'") + near[i] + "'";
-            }
-          message += " (flextrack print-parameters lists every entry)";
-          throw InputError("--set", message);
+          throw InputError("--set", "'" + base::printable_excerpt(o.text(), 200) + "': there is no entry or subsection '" +
+                                      base::printable_excerpt(r.missing, 80) + "' " +
+                                      (r.deepest.empty() ? std::string("at the top level")
+                                                         : "in subsection '" + r.deepest + "'") +
+                                      hint_text(nearest_in(*tree, r.deepest, r.missing)));
         }
       std::string text;
       for (const auto &s : r.subsections) text += "subsection " + s + "\n";
@@ -230,9 +232,8 @@ std::vector<std::string> override_texts(const std::vector<ParameterOverride> &ov
   return texts;
 }
 
-std::vector<std::string> nearest_declared_names(const dealii::ParameterHandler &prm, const std::string &path,
-                                                const std::string &name)
+std::string nearest_declared_hint(const dealii::ParameterHandler &prm, const std::string &path, const std::string &name)
 {
-  return nearest_in(declared_tree(prm), path, name);
+  return hint_text(nearest_in(declared_tree(prm), path, name));
 }
 } // namespace flextrack::io

@@ -44,7 +44,7 @@ std::vector<std::string> override_texts(const std::vector<ParameterOverride> &ov
 
 /// The declared names (entries and subsections) of subsection @p path ('/'-joined, "" for the
 /// top level) of @p prm closest to @p name by edit distance (at most 3 edits, or the first
-/// letters equal), best first: "did you mean" lists in messages.
-std::vector<std::string> nearest_declared_names(const dealii::ParameterHandler &prm, const std::string &path,
-                                                const std::string &name);
+/// letters equal), best first, as the end of a message: "; nearest declared: 'a', 'b' (flextrack
+/// print-parameters lists every entry)".
+std::string nearest_declared_hint(const dealii::ParameterHandler &prm, const std::string &path, const std::string &name);
 } // namespace flextrack::io

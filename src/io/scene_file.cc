@@ -226,20 +226,13 @@ std::string explained_parse_error(const std::string &message, const std::string 
   const std::string path = base::joined(open, "/");
   const std::string where = "line " + std::to_string(line) + " of the scene (expanded includes)" +
                             (path.empty() ? std::string(", at the top level") : ", in subsection '" + path + "'");
-  const auto nearest = [&](const std::string &section, const std::string &name) {
-    const auto names = nearest_declared_names(prm, section, name);
-    std::string s;
-    for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", '" : "'") + names[i] + "'";
-    return s.empty() ? std::string(" (flextrack print-parameters lists every entry)")
-                     : "; nearest declared: " + s + " (flextrack print-parameters lists every entry)";
-  };
   if (std::regex_search(message, m, std::regex(R"(No entry with name <(.*)> was declared)")))
-    return where + ": there is no entry '" + base::printable_excerpt(m[1], 80) + "'" + nearest(path, m[1]);
+    return where + ": there is no entry '" + base::printable_excerpt(m[1], 80) + "'" + nearest_declared_hint(prm, path, m[1]);
   if (std::regex_search(message, m, std::regex(R"(There is no such subsection to be entered: (.*)$)")))
     {
       // The subsection is opened at this line: it is not part of the path yet.
       const std::string name = base::trim(m[1]);
-      return where + ": there is no subsection '" + base::printable_excerpt(name, 80) + "'" + nearest(path, name);
+      return where + ": there is no subsection '" + base::printable_excerpt(name, 80) + "'" + nearest_declared_hint(prm, path, name);
     }
   if (std::regex_search(message, m, std::regex(R"(for the entry named (.*) does not match the given pattern: \[Selection (.*) \])")))
     {

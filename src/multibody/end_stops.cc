@@ -72,10 +72,9 @@ std::string integrate_with_limits(System &system, TimeIntegrator &integrator, co
           unsigned int v = 0;
           // A contact that reaches the end of its track at the end time (a passage timed to end
           // there, End time = L / c) has finished, not failed (issue 25, item 7: exit 3 before).
-          if (system.end_stop(i, v).stop_run && t_end - t <= 1e-9 * std::max({std::abs(t_end), output_interval, 1e-3}))
-            return "";
           if (system.end_stop(i, v).stop_run)
             {
+              if (t_end - t <= 1e-9 * std::max({std::abs(t_end), output_interval, 1e-3})) return "";
               std::ostringstream m;
               m << "at t = " << t << " s " << system.limit_report(i, state);
               return m.str();
