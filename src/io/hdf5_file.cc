@@ -54,7 +54,12 @@ Hdf5File::Hdf5File(const std::string &name, const Mode open_mode) : file_name(na
     }
   else if (mode == Mode::create_on_disk)
     {
-      file = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+      // The 1.8 file format at least: its dense attribute storage holds attributes beyond the
+      // 64 KiB of an object header (the column names of a scene with hundreds of joints).
+      Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+      if (fapl.id < 0 || H5Pset_libver_bounds(fapl.id, H5F_LIBVER_V18, H5F_LIBVER_LATEST) < 0)
+        throw std::runtime_error("cannot set up the HDF5 file");
+      file = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id);
       if (file < 0) throw std::runtime_error("cannot create the HDF5 file");
     }
   else
@@ -132,7 +137,8 @@ void Hdf5File::create_growing(const std::string &path, const hsize_t columns, co
   Handle space{H5Screate_simple(rank, dims, max_dims), H5Sclose};
   Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
   H5Pset_obj_track_times(dcpl.id, false);
-  if (H5Pset_chunk(dcpl.id, rank, chunk) < 0) throw std::runtime_error("cannot set up dataset '" + path + "'");
+  if (H5Pset_chunk(dcpl.id, rank, chunk) < 0 || (mode == Mode::create_on_disk && H5Pset_attr_phase_change(dcpl.id, 0, 0) < 0))
+    throw std::runtime_error("cannot set up dataset '" + path + "'");
   Handle set{H5Dcreate2(file, path.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT), H5Dclose};
   if (set.id < 0) throw std::runtime_error("cannot create dataset '" + path + "'");
 }

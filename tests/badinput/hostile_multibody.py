@@ -230,6 +230,17 @@ CASES = {
     "file_selection_misspelt": dict(
         files={"s.prm": pendulum().replace("set Kind     = revolute", "set Kind     = revolutee")}, args=["run", "s.prm"],
         regex=r"in subsection 'Joint pivot': entry 'Kind' is 'revolutee'; allowed: fixed, revolute, spherical", entry=""),
+    # results.h5 names its columns one string each: 1650 multiplier names of 63 characters do not
+    # fit the 64 KiB of an HDF5 object header (exit 2 before the file used dense attribute storage).
+    "chain_of_150_bodies_names_every_column": dict(
+        files={"s.prm": "set Model = multibody\nsubsection Multibody\n  set Bodies = " +
+               ", ".join(f"b{i}" for i in range(150)) + "\n  set Joints = " + ", ".join(f"j{i}" for i in range(150)) +
+               "\n  set End time = 0.001\n  set Output interval = 0.001\n  set Gravity = 0, -9.81, 0\nend\n" +
+               "".join(f"subsection Body b{i}\n  set Kind = rigid\n  set Mass = 1\n  set Inertia = 0.01, 0.01, 0.01, 0, 0, 0\n"
+                       f"  set Position = {i + 0.5}, 0, 0\nend\nsubsection Joint j{i}\n  set Kind = revolute\n"
+                       f"  set Body 1 = b{i}\n" + (f"  set Body 2 = b{i - 1}\n" if i else "") +
+                       f"  set Position = {i}, 0, 0\n  set Axis = 0, 0, 1\nend\n" for i in range(150))},
+        args=["run", "s.prm"], status=0, outputs=["results.h5", "summary.json"]),
     # Issue 26, item 1: --set is checked like the file's own entries; a misspelt name gets the
     # nearest declared ones, a bad value the entry's allowed values; nothing is written.
     "set_misspelt_entry": dict(

@@ -15,7 +15,8 @@ set(FLEXTRACK_HOSTILE_MULTIBODY_CASES
   arm_200_turns_crossing_itself arm_many_turns_with_a_cusp arm_200_turn_helix_is_read
   maximum_order_seven velocity_tolerance_word
   set_misspelt_entry set_misspelt_subsection set_value_outside_pattern set_unknown_body_scope set_rigid_body_scope
-  set_without_equals set_value_with_a_line_break file_misspelt_entry file_misspelt_subsection file_selection_misspelt)
+  set_without_equals set_value_with_a_line_break file_misspelt_entry file_misspelt_subsection file_selection_misspelt
+  chain_of_150_bodies_names_every_column)
 foreach(case ${FLEXTRACK_HOSTILE_MULTIBODY_CASES})
   add_test(NAME badinput_multibody_${case}
     COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/badinput/hostile_multibody.py $<TARGET_FILE:flextrack>
