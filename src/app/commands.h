@@ -19,6 +19,7 @@ struct Options
   std::string format;           ///< export: a name of io::export_formats()
   std::string mbdyn_clamp;      ///< export: --mbdyn-clamp (auto, yes, no); empty = not given
   std::vector<io::ParameterOverride> overrides; ///< --set ENTRY=VALUE, in their order
+  unsigned int jobs = 1;        ///< sweep: -j N, cases run at once on this machine
 };
 
 /// Time simulation of a multibody scene (Model = multibody): probes.csv, monitors.csv,
@@ -26,6 +27,10 @@ struct Options
 int run_command(const Options &options, const io::SceneFile &file);
 /// Work-precision of the integrators on a multibody scene: bench.csv, bench.png, summary.json.
 int bench_command(const Options &options, const io::SceneFile &file);
+/// A parameter study of a multibody scene ("Model = study", doc/sweep.md): every case run in
+/// OUT/case_NNNN/, sweep.csv and sweep.png; `-j N` cases at once, or shared out over mpirun's
+/// processes; a rerun runs only the cases not yet finished.
+int sweep_command(const Options &options, const io::SceneFile &file);
 /// Frequencies and damping ratios of a multibody scene linearised about its initial state.
 int linearize_command(const Options &options, const io::SceneFile &file);
 /// The parameters of a multibody scene (one body, joint, force and probe called NAME).

@@ -34,6 +34,12 @@ Usage:
   flextrack                          run the default scene (the laser robot, prm/laser_robot.prm)
   flextrack run FILE.prm [-o DIR]    simulate a multibody scene ('Model = multibody',
                                      doc/multibody.md); other scenes: as 'modes'
+  flextrack sweep STUDY.prm [-j N] [-o DIR]
+                                     a parameter study ('Model = study', doc/sweep.md): the
+                                     study's scene run for every case, N cases at once, into
+                                     DIR/case_NNNN/; one row per case in DIR/sweep.csv, and
+                                     sweep.png; run again, it runs only the unfinished cases
+  mpirun -np N flextrack sweep ...   the same, the cases shared out over the N processes
   flextrack linearize FILE.prm       frequencies and damping ratios of a multibody scene
                                      linearised about its initial state
   flextrack bench FILE.prm [-o DIR]  work-precision of the integrators on a multibody scene: a
@@ -71,6 +77,7 @@ Results go to DIR (default: output/<FILE name without extension>/):
   convergence.csv, convergence.png   (converge)
   probes.csv, monitors.csv, results.h5   (run: probe positions and velocities, constraint
                     residuals and energy balance, the full state; written up to a solver failure)
+  sweep.csv, sweep.png   (sweep: parameters, collected quantities, status, CPU time per case)
   bench.csv, bench.png   (bench: method, setting, error per probe, wall time, steps, evaluations)
   static.csv        load case, arc length, position, displacement, rotation (static)
   reduced_body.h5   reduced matrices, inertia invariants, interface and arm mode fields (reduce;
@@ -134,6 +141,8 @@ int scene_dispatch(const Options &options, const flextrack::io::SceneFile &file)
 int run_dispatch(const Options &options, const flextrack::io::SceneFile &file)
 {
   if (file.model == "multibody") return run_command(options, file);
+  if (file.model == "study")
+    throw flextrack::InputError("Model", "is 'study': run a study with 'flextrack sweep " + options.file + "'", options.file);
   start_mpi(nullptr, nullptr);
   return scene_dispatch(options, file);
 }
@@ -144,6 +153,7 @@ const std::vector<Command> &commands()
   static const std::vector<Command> table{{"run", false, run_dispatch, nullptr},
                                           {"linearize", false, linearize_command, nullptr},
                                           {"bench", false, bench_command, nullptr},
+                                          {"sweep", false, sweep_command, nullptr},
                                           {"modes", true, scene_dispatch, nullptr},
                                           {"converge", true, converge_command, nullptr},
                                           {"reduce", true, reduce_command, nullptr},
@@ -179,6 +189,21 @@ std::string parse_options(const std::string &command, const std::vector<std::str
             {
               return "--refinements must be an integer from 1 to 12, not '" +
                      flextrack::base::printable_excerpt(args[i]) + "'";
+            }
+        }
+      else if ((args[i] == "-j" || args[i] == "--jobs") && command == "sweep")
+        {
+          if (++i == args.size()) return "-j needs the number of cases to run at once";
+          try
+            {
+              std::size_t used = 0;
+              const int n = std::stoi(args[i], &used);
+              if (used != args[i].size() || n < 1 || n > 1024) throw std::out_of_range("N");
+              options.jobs = n;
+            }
+          catch (...)
+            {
+              return "-j must be an integer from 1 to 1024, not '" + flextrack::base::printable_excerpt(args[i]) + "'";
             }
         }
       else if (args[i] == "--format" && command == "export")
@@ -237,7 +262,7 @@ int dispatch(std::vector<std::string> args, int *argc, char ***argv)
   const auto row = std::find_if(table.begin(), table.end(), [&](const Command &c) { return command == c.name; });
   if (row == table.end())
     return usage_error("unknown command '" + flextrack::base::printable_excerpt(command) +
-                       "'; allowed: run, linearize, modes, converge, reduce, static, inspect, export, print-parameters");
+                       "'; allowed: run, linearize, bench, sweep, modes, converge, reduce, static, inspect, export, print-parameters");
   Options options;
   if (const auto problem = parse_options(command, args, options); !problem.empty()) return usage_error(problem);
   if (row->needs_mpi) start_mpi(argc, argv);

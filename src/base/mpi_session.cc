@@ -6,9 +6,20 @@
 
 namespace flextrack::base
 {
+namespace
+{
+MPI_Comm fe_comm = MPI_COMM_WORLD;
+}
+
+bool started_by_mpirun() { return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr; }
+
+MPI_Comm fe_communicator() { return fe_comm; }
+
+void use_own_process_for_fe() { fe_comm = MPI_COMM_SELF; }
+
 std::string prepare_singleton_mpi()
 {
-  if (std::getenv("OMPI_COMM_WORLD_SIZE")) return ""; // started by mpirun
+  if (started_by_mpirun()) return "";
   setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   if (std::getenv("OMPI_MCA_orte_tmpdir_base")) return ""; // the user chose one
   const char *tmp = std::getenv("TMPDIR");

@@ -2,6 +2,8 @@
 // processes starting at once: the FlexTrack executable and the unit tests use it.
 #pragma once
 
+#include <mpi.h>
+
 #include <string>
 
 namespace flextrack::base
@@ -17,4 +19,13 @@ std::string prepare_singleton_mpi();
 
 /// Removes @p folder and its contents; nothing for "".
 void remove_mpi_session_folder(const std::string &folder);
+
+/// True in a process started by mpirun (Open MPI's environment), whether MPI runs yet or not.
+bool started_by_mpirun();
+
+/// The communicator the FE stage distributes a solid over and whose first process writes the
+/// results: MPI_COMM_WORLD, except in `mpirun ... flextrack sweep`, where every process runs
+/// cases of its own and sets MPI_COMM_SELF (use_own_process_for_fe()).
+MPI_Comm fe_communicator();
+void use_own_process_for_fe();
 } // namespace flextrack::base

@@ -2,6 +2,7 @@
 #include <geometry/rotation.h>
 #include <fem/csr_matrix.h>
 #include <base/input_error.h>
+#include <base/mpi_session.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/lac/affine_constraints.h>
@@ -38,7 +39,7 @@ BodyModel::~BodyModel() = default;
 
 BodyModel::BodyModel(const Body &body) : description(body)
 {
-  AssertThrow(Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) == 1,
+  AssertThrow(Utilities::MPI::n_mpi_processes(base::fe_communicator()) == 1,
               ExcMessage("a flexible body is reduced serially; run without mpirun"));
   // Each arm gets a mesh node at every interface on it; supports stay out of the matrices and
   // are applied with the ties.

@@ -3,6 +3,7 @@
 #include <fem/symmetric_assembly.h>
 #include <base/input_error.h>
 #include <base/memory.h>
+#include <base/mpi_session.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -50,7 +51,7 @@ Point<3> coarse_coordinates(Triangulation<3>::cell_iterator cell, Point<3> p)
 SolidModel::SolidModel(const Solid &solid, const unsigned int refinement, const bool constrain_matrices,
                        const bool with_mass)
   : body(solid), level(refinement), constrained_assembly(constrain_matrices), assemble_mass(with_mass),
-    tria(MPI_COMM_WORLD, Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis),
+    tria(base::fe_communicator(), Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis),
     geometry_fe(FE_Serendipity<3>(), 3), fe(make_element(solid.element))
 {
   tria.copy_triangulation(body.mesh->triangulation);
@@ -344,7 +345,7 @@ void SolidModel::assemble()
         applied.add_entries_local_to_global(cell_dofs, pattern, false);
       }
     const IndexSet &owned = dofs.locally_owned_dofs();
-    stiffness.reinit(owned, owned, pattern, MPI_COMM_WORLD);
+    stiffness.reinit(owned, owned, pattern, base::fe_communicator());
   }
   // M has K's pattern and shares K's graph (Epetra counts references): one copy of the column
   // indices instead of two, a third of a matrix.

@@ -36,6 +36,12 @@ std::string bench_plot_script(const std::string &title, unsigned int n_probes);
 /// deviation against time, one line per probe of @p probe_names (probes.csv, deviation.csv).
 std::string deviation_plot_script(const std::vector<std::string> &probe_names);
 
+/// sweep.gp: from sweep.csv (case, the parameters, the quantities), the first four quantities
+/// against the one parameter of @p parameters, one panel each; or, over two parameters, the
+/// first quantity as the colour of a map. Titled @p title.
+std::string sweep_plot_script(const std::string &title, const std::vector<std::string> &parameters,
+                              const std::vector<std::string> &quantities);
+
 /// The outcome of draw_png: drawn, or why not (gnuplot missing, failed, the PNG incomplete).
 struct PlotResult
 {

@@ -224,8 +224,11 @@ private:
       }
     const auto source =
       naming_entry(prefix + "Body scene", [&] { return read_body_scene(SceneFile::read(relative(body_scene), overrides)); });
-    const std::string cache =
-      OutputFolder::choose("", source.output.directory, source.file) + "/reduced_body.h5";
+    // A body scene with --set entries is another body, kept in a file of its own beside the
+    // scene's (named by its input hash): a study of several bases (flextrack sweep) reduces each
+    // once and keeps it, and never replaces the body of the scene as written.
+    const std::string cache = OutputFolder::choose("", source.output.directory, source.file) +
+                              (overrides.empty() ? "/reduced_body.h5" : "/reduced_body_set_" + source.input_hash + ".h5");
     log << "  body scene " << source.file << ":\n";
     // Prepared (MPI started) only for a reduction the cache cannot serve, which the cache knows
     // only after reading and checking its file in full: a damaged file with the right input hash

@@ -1,4 +1,5 @@
 #include <base/input_error.h>
+#include <base/mpi_session.h>
 #include <io/output_folder.h>
 
 #include <mpi.h>
@@ -44,7 +45,7 @@ bool is_first_process()
   MPI_Initialized(&started);
   if (!started) return true;
   int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_rank(base::fe_communicator(), &rank);
   return rank == 0;
 }
 

@@ -8,9 +8,14 @@
 #include <reduction/plausibility.h>
 #include <reduction/reduced_body_builder.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <cerrno>
 #include <memory>
 
 namespace flextrack::io
@@ -19,6 +24,46 @@ using dealii::TimerOutput;
 
 namespace
 {
+/// An exclusive lock (flock) on a hidden FILE.lock beside the cached body while it is looked up
+/// and, if stale, reduced and written: two processes that need the same body (the cases of a
+/// sweep, two runs started at once) reduce it once; the second waits, then loads the file. A
+/// folder created only for the lock is removed again when the body could not be obtained (a
+/// failed run leaves nothing behind).
+class CacheLock
+{
+public:
+  CacheLock(const std::string &file, std::ostream &log)
+  {
+    const auto path = std::filesystem::path(file);
+    folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+    lock = folder / ("." + path.filename().string() + ".lock");
+    std::error_code ec;
+    if (!std::filesystem::exists(folder, ec)) created_folder = std::filesystem::create_directories(folder, ec);
+    descriptor = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+    if (descriptor < 0) return; // a read-only folder: no lock; writing the body reports the folder
+    if (flock(descriptor, LOCK_EX | LOCK_NB) != 0)
+      {
+        log << "  waiting for another process that is reducing this body (" << file << ")" << std::endl;
+        while (flock(descriptor, LOCK_EX) != 0 && errno == EINTR) {}
+      }
+  }
+  void obtained() { success = true; }
+  ~CacheLock()
+  {
+    std::error_code ec;
+    if (!success && created_folder) std::filesystem::remove(lock, ec);
+    if (descriptor >= 0) ::close(descriptor);
+    if (!success && created_folder) std::filesystem::remove(folder, ec); // only if empty
+  }
+  CacheLock(const CacheLock &) = delete;
+  CacheLock &operator=(const CacheLock &) = delete;
+
+private:
+  std::filesystem::path folder, lock;
+  int descriptor = -1;
+  bool created_folder = false, success = false;
+};
+
 /// The cached body in @p file if its input hash is @p hash; an unusable or stale file is reported.
 bool load_if_up_to_date(const std::string &file, const std::string &hash, reduction::ReducedBody &body,
                         std::ostream &log)
@@ -68,6 +113,7 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
                                     TimerOutput &timer, const std::function<void()> &before_reduction)
 {
   ObtainedBody result;
+  CacheLock lock(file, log);
   {
     TimerOutput::Scope t(timer, "load cached reduced body");
     result.from_cache = load_if_up_to_date(file, scene.input_hash, result.body, log);
@@ -75,6 +121,7 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
   if (result.from_cache)
     {
       log << "  reduced body is up to date: loaded " << file << " (same input hash), nothing recomputed\n";
+      lock.obtained();
       return result;
     }
   if (before_reduction) before_reduction();
@@ -121,6 +168,7 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
   if (const auto folder = std::filesystem::path(file).parent_path(); !folder.empty())
     OutputFolder(folder.string()).create();
   write_reduced_body(result.body, file);
+  lock.obtained();
   return result;
 }
 } // namespace flextrack::io

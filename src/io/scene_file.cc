@@ -4,6 +4,7 @@
 #include <fem/body.h>
 #include <fem/load_case.h>
 #include <io/scene_file.h>
+#include <io/study.h>
 #include <multibody/simulation_settings.h>
 
 #include <cctype>
@@ -34,6 +35,7 @@ void declare_first_pass(ParameterHandler &prm)
   fem::Body::declare_arm_list(prm); // Body/Arms
   fem::StaticSettings::declare_load_case_list(prm); // Static/Load cases
   multibody::SceneNames::declare_name_lists(prm); // Multibody/Bodies, Joints, Forces, Probes
+  declare_study_parameter_list(prm);                // Study/Parameters
 }
 
 std::string read_bytes(const std::string &file, const std::string &what)
@@ -142,11 +144,12 @@ unsigned int json_depth(const std::string &text)
 
 void declare_model_entry(ParameterHandler &prm)
 {
-  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid|body|multibody"),
+  prm.declare_entry("Model", "arm", dealii::Patterns::Selection("arm|solid|body|multibody|study"),
                     "The structure of the scene: 'arm' (a curved beam, subsection Arm), 'solid' (a 3D body "
                     "meshed with hexahedra, subsection Solid) or 'body' (a flexible body of a solid part and "
                     "named arms, subsection Body, reduced by 'flextrack reduce') or 'multibody' (bodies, joints, forces "
-                    "and probes, subsection Multibody, simulated by 'flextrack run'; doc/multibody.md).");
+                    "and probes, subsection Multibody, simulated by 'flextrack run'; doc/multibody.md) or 'study' (a "
+                    "parameter study of a multibody scene, subsection Study, run by 'flextrack sweep'; doc/sweep.md).");
 }
 
 namespace
