@@ -191,7 +191,15 @@ public:
     : study(io::read_study(file)),
       folder(io::OutputFolder::choose(options.output_directory, study.output_directory, options.file))
   {
-    const io::SceneFile scene = io::SceneFile::read(study.scene);
+    io::SceneFile scene;
+    try
+      {
+        scene = io::SceneFile::read(study.scene);
+      }
+    catch (const InputError &e)
+      {
+        throw InputError("Study/Scene", e.what(), study.file);
+      }
     if (scene.model != "multibody")
       throw InputError("Study/Scene", "'" + study.scene + "' is a '" + scene.model + "' scene; a study runs a multibody scene", study.file);
     cases = study.cases(scene.text, folder);
@@ -568,7 +576,7 @@ int sweep_command(const Options &options, const io::SceneFile &file)
   std::cout << "  " << n_done << " of " << sweep.size() << " cases: " << base::joined(counts, ", ") << "; study wall time "
             << std::setprecision(3) << wall << " s";
   if (!list.empty() && !on_mpi && options.jobs == 1)
-    std::cout << ", of which " << std::max(0.0, wall - sweep.case_wall_time_sum()) / list.size() * 1e3 << " ms per case outside the cases (fork, records, sweep.csv)";
+    std::cout << ", of which " << std::max(0.0, wall - sweep.case_wall_time_sum()) << " s outside the cases (checks, fork, records, sweep.csv, plot)";
   std::cout << "\n  results in " << sweep.output_folder() << "/ (sweep.csv" << (plot.empty() ? "" : ", " + plot)
             << ", case_NNNN/)" << std::endl;
   if (n_done < sweep.size())

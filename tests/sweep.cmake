@@ -1,0 +1,13 @@
+# flextrack sweep (issue 26): the laser robot's study run with -j 2 and under mpirun -np 2 (the
+# same sweep.csv), a case against the plain run of its --set entries, a study killed and
+# restarted, a failing case as a row, bad studies refused before any case runs. Label cli.
+function(flextrack_sweep_check name check)
+  add_test(NAME cli_sweep_${name}
+    COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/sweep/check_sweep.py ${check} $<TARGET_FILE:flextrack> ${MPIRUN}
+            ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/sweep/${name})
+  set_tests_properties(cli_sweep_${name} PROPERTIES LABELS cli PROCESSORS 2)
+endfunction()
+flextrack_sweep_check(laser_robot_study_same_with_fork_and_mpi agree)
+flextrack_sweep_check(killed_study_reruns_only_missing_cases restart)
+flextrack_sweep_check(failed_case_is_a_row failed_case)
+flextrack_sweep_check(bad_study_is_refused_before_any_case bad_study)
