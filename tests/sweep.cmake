@@ -11,3 +11,8 @@ flextrack_sweep_check(laser_robot_study_same_with_fork_and_mpi agree)
 flextrack_sweep_check(killed_study_reruns_only_missing_cases restart)
 flextrack_sweep_check(failed_case_is_a_row failed_case)
 flextrack_sweep_check(bad_study_is_refused_before_any_case bad_study)
+# The Python front end's example in doc/python.md, run as written (issue 26, item 4).
+add_test(NAME cli_python_example_runs_as_written
+  COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/python/run_python_example.py $<TARGET_FILE:flextrack>
+          ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/sweep/python_example)
+set_tests_properties(cli_python_example_runs_as_written PROPERTIES LABELS cli PROCESSORS 2)

@@ -296,6 +296,11 @@ int run_command(const Options &options, const io::SceneFile &file)
       .add("output_rows", recorder.n_rows())
       .add("animation_frames", animation ? animation->n_frames() : 0u)
       .add("unknowns", system.size())
+      .add("modes_per_body", [&] {
+        io::JsonObject modes; // elastic coordinates of each body (0: rigid), e.g. for a study's table
+        for (unsigned int b = 1; b < system.n_bodies(); ++b) modes.add(system.body(b).name(), system.body(b).n_modes());
+        return modes;
+      }())
       .add("integrator", statistics_json(integrator.statistics())
                              .add("method", settings.integrator.method_name())
                              .add("maximum_order", integrator_settings.max_order)

@@ -463,7 +463,12 @@ std::string summary_value(const boost::property_tree::ptree &tree, const std::st
       if (!child->first.empty()) return "";
       node = &child->second;
     }
-  return node->empty() ? node->data() : "";
+  if (!node->empty()) return "";
+  // Numbers with the 12 digits of the other columns (summary.json prints 17).
+  const std::string &text = node->data();
+  char *end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  return !text.empty() && *end == '\0' && std::isfinite(x) ? value_text(x) : text;
 }
 } // namespace
 
