@@ -20,7 +20,7 @@ Output/Directory in WORKDIR, so ./output/ of prm/laser_robot.prm is never touche
   - bodies reduced once beforehand ('flextrack reduce'; reused while unchanged), so every timed
     run loads them from the cache;
   - reference: body I with 24 normal modes and 16 track stations (the richest basis of
-    tests/bench/laser_robot_convergence.py, 72 reduced modes), rtol 1e-6 (--reference-rtol;
+    prm/laser_robot_convergence.prm, 72 reduced modes), rtol 1e-6 (--reference-rtol;
     tighter ones stall after t = 3.3 s, see below); --reference-check=RTOL runs it also at RTOL
     and prints the difference; --partial-reference=PROBES_CSV adds the error against a tighter
     run over the times that file covers;
