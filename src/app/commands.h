@@ -19,7 +19,7 @@ struct Options
   std::string format;           ///< export: a name of io::export_formats()
   std::string mbdyn_clamp;      ///< export: --mbdyn-clamp (auto, yes, no); empty = not given
   std::vector<io::ParameterOverride> overrides; ///< --set ENTRY=VALUE, in their order
-  unsigned int jobs = 1;        ///< sweep: -j N, cases run at once on this machine
+  unsigned int jobs = 0;        ///< sweep: -j N, cases run at once on this machine; 0: not given
 };
 
 /// Time simulation of a multibody scene (Model = multibody): probes.csv, monitors.csv,

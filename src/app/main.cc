@@ -36,7 +36,8 @@ Usage:
                                      doc/multibody.md); other scenes: as 'modes'
   flextrack sweep STUDY.prm [-j N] [-o DIR]
                                      a parameter study ('Model = study', doc/sweep.md): the
-                                     study's scene run for every case, N cases at once, into
+                                     study's scene run for every case, N cases at once (default:
+                                     one per core this process may use), into
                                      DIR/case_NNNN/; one row per case in DIR/sweep.csv, and
                                      sweep.png; run again, it runs only the unfinished cases
   mpirun -np N flextrack sweep ...   the same, the cases shared out over the N processes

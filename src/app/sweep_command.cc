@@ -4,9 +4,9 @@
 //
 // How cases run. Starting the program costs about 0.5 s (the dynamic linker resolving deal.II's
 // libraries), more than many cases take, so no case starts a program:
-//  - on one machine (`-j N`) this process forks a child per case, at most N at once; the child
-//    runs the case as `flextrack run` would and ends. A case that crashes is one row ("crashed"),
-//    not the end of the study, and its CPU time is the child's (wait4).
+//  - on one machine (`-j N`) this process forks N workers, each runs cases one after another
+//    as `flextrack run` would, the next one handed out by this process over a pipe. A case that
+//    crashes is one row ("crashed"), not the end of the study; a new worker replaces its own.
 //  - under `mpirun -np N` every process runs cases itself, one after another, taking the next one
 //    from a counter on the first process (MPI_Fetch_and_op on a one-sided window: a dynamic
 //    queue, so a long case does not keep the others idle). A flexible body is then reduced on
@@ -39,13 +39,18 @@
 #include <boost/property_tree/ptree.hpp>
 
 #include <fcntl.h>
+#include <sched.h>
 #include <mpi.h>
+#include <poll.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstdint>
+#include <limits>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
@@ -56,7 +61,6 @@
 #include <map>
 #include <set>
 #include <sstream>
-#include <thread>
 
 namespace flextrack::app
 {
@@ -82,7 +86,9 @@ std::string status_of_exit(const int code)
       case 2: return "bad input";
       case 3: return "failed";
       case 4: return "internal error";
-      default: return code > 128 ? "interrupted" : "crashed";
+      case 128 + SIGINT:
+      case 128 + SIGTERM: return "interrupted"; // run again when the study is
+      default: return "crashed";
     }
 }
 
@@ -184,6 +190,58 @@ std::string csv_cell(const std::string &text)
   return quoted + "\"";
 }
 
+/// What a worker process says of a case it ran.
+struct CaseReport
+{
+  int code = 0;
+  double cpu_s = 0, run_wall_s = 0;
+  std::string message;
+};
+
+bool read_exactly(const int fd, void *data, const std::size_t size)
+{
+  auto *bytes = static_cast<char *>(data);
+  for (std::size_t done = 0; done < size;)
+    {
+      const ssize_t n = ::read(fd, bytes + done, size - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      done += n;
+    }
+  return true;
+}
+
+bool write_exactly(const int fd, const void *data, const std::size_t size)
+{
+  const auto *bytes = static_cast<const char *>(data);
+  for (std::size_t done = 0; done < size;)
+    {
+      const ssize_t n = ::write(fd, bytes + done, size - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      done += n;
+    }
+  return true;
+}
+
+bool read_report(const int fd, CaseReport &r)
+{
+  std::uint64_t length = 0;
+  if (!read_exactly(fd, &r.code, sizeof r.code) || !read_exactly(fd, &r.cpu_s, sizeof r.cpu_s) ||
+      !read_exactly(fd, &r.run_wall_s, sizeof r.run_wall_s) || !read_exactly(fd, &length, sizeof length) || length > (1u << 20))
+    return false;
+  r.message.assign(length, ' ');
+  return read_exactly(fd, r.message.data(), length);
+}
+
+bool write_report(const int fd, const CaseReport &r)
+{
+  const std::uint64_t length = r.message.size();
+  return write_exactly(fd, &r.code, sizeof r.code) && write_exactly(fd, &r.cpu_s, sizeof r.cpu_s) &&
+         write_exactly(fd, &r.run_wall_s, sizeof r.run_wall_s) && write_exactly(fd, &length, sizeof length) &&
+         write_exactly(fd, r.message.data(), length);
+}
+
 class Sweep
 {
 public:
@@ -268,77 +326,120 @@ public:
     return list;
   }
 
-  /// -j N: a forked child per case, at most @p jobs at once. Returns the signal that stopped the
-  /// study (SIGINT, SIGTERM), 0 if none.
+  /// -j N: N forked worker processes run the cases, each one after another in its own process
+  /// (warm: a worker's second case no longer pays for the first use of the libraries, which made
+  /// a case in a fresh process 1.6 times as slow), this process hands out the next case to the
+  /// worker that finishes one. A worker that dies takes only its case with it ("crashed"); a new
+  /// one takes its place. Returns the signal that stopped the study (SIGINT, SIGTERM), 0 if none.
   int run_forked(const std::vector<std::size_t> &list, const unsigned int jobs)
   {
-    struct Running
+    struct Worker
     {
-      std::size_t index;
-      int pipe;
+      pid_t pid = -1;
+      int to = -1, from = -1;     // pipes to and from the worker
+      std::size_t index = 0;      // the case it runs
+      bool busy = false;
+      double cpu_reported = 0;    // CPU time of its finished cases [s]
       std::chrono::steady_clock::time_point start;
     };
-    std::map<pid_t, Running> running;
+    std::vector<Worker> workers(std::min<std::size_t>(jobs, list.size()));
     std::size_t next = 0;
-    bool forwarded = false;
+    bool stopping = false;
+    const auto give_next = [&](Worker &w) {
+      std::uint64_t message = std::numeric_limits<std::uint64_t>::max(); // stop
+      w.busy = !stopping && next < list.size();
+      if (w.busy)
+        {
+          w.index = list[next++];
+          message = w.index;
+          w.start = std::chrono::steady_clock::now();
+        }
+      if (::write(w.to, &message, sizeof message) != sizeof message) w.busy = false; // it died: reaped below
+    };
+    const auto start_worker = [&](Worker &w) {
+      int down[2], up[2];
+      if (pipe2(down, O_CLOEXEC) != 0 || pipe2(up, O_CLOEXEC) != 0) throw std::runtime_error("sweep: cannot create a pipe");
+      std::cout.flush();
+      std::fflush(nullptr);
+      const pid_t pid = fork();
+      if (pid < 0) throw std::runtime_error("sweep: fork failed");
+      if (pid == 0)
+        {
+          ::close(down[1]);
+          ::close(up[0]);
+          work_on_cases(down[0], up[1]);
+        }
+      ::close(down[0]);
+      ::close(up[1]);
+      w = Worker();
+      w.pid = pid;
+      w.to = down[1];
+      w.from = up[0];
+      give_next(w);
+    };
+    std::signal(SIGPIPE, SIG_IGN); // a worker that died: its pipe says so, not a signal
     base::watch_interrupts();
-    while (next < list.size() || !running.empty())
+    for (auto &w : workers) start_worker(w);
+    bool forwarded = false;
+    while (std::any_of(workers.begin(), workers.end(), [](const Worker &w) { return w.busy; }))
       {
-        const int signal = base::interrupted();
-        if (signal && !forwarded) // once: a second signal would end a case without its results
-          for (const auto &r : running) kill(r.first, signal);
-        forwarded = forwarded || signal;
-        while (!signal && next < list.size() && running.size() < jobs)
+        if (const int signal = base::interrupted(); signal && !forwarded)
           {
-            const std::size_t i = list[next++];
-            int channel[2];
-            if (pipe2(channel, O_CLOEXEC) != 0) throw std::runtime_error("sweep: cannot create a pipe");
-            std::cout.flush();
-            std::fflush(nullptr);
-            const pid_t pid = fork();
-            if (pid < 0) throw std::runtime_error("sweep: fork failed");
-            if (pid == 0)
+            stopping = forwarded = true; // once: a second signal would end a case without its results
+            for (const auto &w : workers)
+              if (w.busy) kill(w.pid, signal);
+          }
+        std::vector<pollfd> watched;
+        for (const auto &w : workers)
+          if (w.busy) watched.push_back({w.from, POLLIN, 0});
+        if (poll(watched.data(), watched.size(), 200) <= 0) continue; // a signal, or nothing yet
+        for (auto &w : workers)
+          {
+            const auto ready = std::find_if(watched.begin(), watched.end(), [&](const pollfd &p) { return p.fd == w.from; });
+            if (!w.busy || ready == watched.end() || ready->revents == 0) continue;
+            const double wall = seconds_since(w.start);
+            CaseReport report;
+            if (read_report(w.from, report))
               {
-                ::close(channel[0]);
-                prctl(PR_SET_PDEATHSIG, SIGTERM); // the study killed: its cases stop too
-                base::stop_watching_interrupts();
-                std::string message;
-                int code = 0;
-                {
-                  std::error_code ec;
-                  fs::create_directories(cases[i].folder, ec);
-                  OutputToFile log(cases[i].folder + "/log.txt");
-                  code = run_case_here(study, cases[i], message);
-                }
-                if (!message.empty() && ::write(channel[1], message.data(), message.size()) < 0) code = 4;
-                std::_Exit(code); // no exit handlers: they belong to the parent (MPI, HDF5)
+                machinery_seconds += std::max(0.0, wall - report.run_wall_s); // handing out, reporting
+                w.cpu_reported += report.cpu_s;
+                finish_case(w.index, report.code, report.message, report.cpu_s, wall, "");
+                if (report.code > 128) stopping = true; // interrupted: the study stops
+                give_next(w);
               }
-            ::close(channel[1]);
-            running[pid] = {i, channel[0], std::chrono::steady_clock::now()};
+            else // the worker died with its case
+              {
+                int status = 0;
+                rusage usage{};
+                wait4(w.pid, &status, 0, &usage);
+                ::close(w.to);
+                ::close(w.from);
+                const double cpu = usage.ru_utime.tv_sec + 1e-6 * usage.ru_utime.tv_usec + usage.ru_stime.tv_sec +
+                                   1e-6 * usage.ru_stime.tv_usec - w.cpu_reported;
+                const int code = WIFSIGNALED(status) ? 128 + WTERMSIG(status) : WIFEXITED(status) ? WEXITSTATUS(status) : 4;
+                finish_case(w.index, code == 0 ? 4 : code,
+                            "the case's process ended " + (WIFSIGNALED(status) ? "by signal " + std::to_string(WTERMSIG(status))
+                                                                                : "with exit status " + std::to_string(code)) +
+                              " (log: " + cases[w.index].folder + "/log.txt)",
+                            cpu, wall, "");
+                w.busy = false;
+                if (!stopping && next < list.size()) start_worker(w);
+              }
+            const auto written = std::chrono::steady_clock::now();
+            write_table(false); // sweep.csv grows as the cases end
+            machinery_seconds += seconds_since(written);
           }
-        int status = 0;
-        rusage usage{};
-        const pid_t pid = wait4(-1, &status, WNOHANG, &usage);
-        if (pid <= 0)
-          {
-            std::this_thread::sleep_for(std::chrono::milliseconds(2));
-            continue;
-          }
-        const auto r = running.at(pid);
-        running.erase(pid);
-        std::string message;
-        char buffer[4096];
-        for (ssize_t n; (n = ::read(r.pipe, buffer, sizeof buffer)) > 0;) message.append(buffer, n);
-        ::close(r.pipe);
-        const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        if (WIFSIGNALED(status) && message.empty())
-          message = "the case's process ended by signal " + std::to_string(WTERMSIG(status)) + " (log: " + cases[r.index].folder + "/log.txt)";
-        const double cpu = usage.ru_utime.tv_sec + 1e-6 * usage.ru_utime.tv_usec + usage.ru_stime.tv_sec + 1e-6 * usage.ru_stime.tv_usec;
-        finish_case(r.index, code, message, cpu, seconds_since(r.start), "");
-        write_table(false); // sweep.csv grows as the cases end
       }
+    for (auto &w : workers)
+      if (w.pid > 0 && waitpid(w.pid, nullptr, WNOHANG) == 0)
+        {
+          ::close(w.to); // a worker that was told to stop ends; one still reading ends at EOF
+          ::close(w.from);
+          waitpid(w.pid, nullptr, 0);
+        }
     const int signal = base::interrupted();
     base::stop_watching_interrupts();
+    std::signal(SIGPIPE, SIG_DFL);
     return signal;
   }
 
@@ -349,19 +450,41 @@ public:
     int rank = 0, size = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
+    // The counter of the cases taken, on the first process. One process needs no window (and
+    // Open MPI 4.1 refuses one there: "MPI_ERR_WIN: invalid window"); where a window cannot be
+    // made the processes take every size-th case instead (said in the log).
     long counter = 0;
-    MPI_Win window;
-    MPI_Win_create(rank == 0 ? &counter : nullptr, rank == 0 ? sizeof counter : 0, sizeof counter, MPI_INFO_NULL,
-                   MPI_COMM_WORLD, &window);
+    MPI_Win window = MPI_WIN_NULL;
+    bool shared_counter = false;
+    if (size > 1)
+      {
+        MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+        int made = MPI_Win_create(rank == 0 ? &counter : nullptr, rank == 0 ? sizeof counter : 0, sizeof counter,
+                                  MPI_INFO_NULL, MPI_COMM_WORLD, &window);
+        MPI_Allreduce(MPI_IN_PLACE, &made, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+        MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
+        shared_counter = made == MPI_SUCCESS;
+        if (!shared_counter && rank == 0)
+          std::cout << "  no one-sided MPI window here: process k runs cases k, k + " << size << ", ... (no dynamic queue)" << std::endl;
+      }
     const long one = 1;
+    long own_next = rank;
     int stopped_by = 0;
     const std::string who = " (process " + std::to_string(rank) + " of " + std::to_string(size) + ")";
     while (true)
       {
         long taken = 0;
-        MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window);
-        MPI_Fetch_and_op(&one, &taken, MPI_LONG, 0, 0, MPI_SUM, window);
-        MPI_Win_unlock(0, window);
+        if (shared_counter)
+          {
+            MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window);
+            MPI_Fetch_and_op(&one, &taken, MPI_LONG, 0, 0, MPI_SUM, window);
+            MPI_Win_unlock(0, window);
+          }
+        else
+          {
+            taken = own_next;
+            own_next += size;
+          }
         if (taken >= static_cast<long>(list.size())) break;
         const std::size_t i = list[taken];
         const auto start = std::chrono::steady_clock::now();
@@ -382,7 +505,7 @@ public:
           }
       }
     MPI_Barrier(MPI_COMM_WORLD);
-    MPI_Win_free(&window);
+    if (shared_counter) MPI_Win_free(&window);
     // The first process writes the table from every case's record.
     if (rank == 0) find_finished_cases();
     MPI_Allreduce(MPI_IN_PLACE, &stopped_by, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
@@ -458,14 +581,6 @@ public:
       if (done[i]) ++count[records[i].status];
     return count;
   }
-  double case_wall_time_sum() const
-  {
-    double sum = 0;
-    for (std::size_t i = 0; i < cases.size(); ++i)
-      if (done[i]) sum += records[i].wall_time_s;
-    return sum;
-  }
-
 private:
   io::Study study;
   std::string folder;
@@ -473,6 +588,38 @@ private:
   std::vector<CaseRecord> records;
   std::vector<bool> done;
 
+  /// A worker process (run_forked): runs the case whose number it reads from @p from_parent,
+  /// reports it on @p to_parent, until told to stop or its parent is gone.
+  [[noreturn]] void work_on_cases(const int from_parent, const int to_parent) const
+  {
+    prctl(PR_SET_PDEATHSIG, SIGTERM); // the study killed: its cases stop too
+    base::stop_watching_interrupts();
+    std::signal(SIGPIPE, SIG_DFL);
+    for (std::uint64_t i = 0; read_exactly(from_parent, &i, sizeof i) && i < cases.size();)
+      {
+        CaseReport report;
+        const auto start = std::chrono::steady_clock::now();
+        const double cpu_start = process_cpu_seconds();
+        {
+          std::error_code ec;
+          fs::create_directories(cases[i].folder, ec);
+          OutputToFile log(cases[i].folder + "/log.txt");
+          report.code = run_case_here(study, cases[i], report.message);
+        }
+        report.cpu_s = process_cpu_seconds() - cpu_start;
+        report.run_wall_s = seconds_since(start);
+        if (!write_report(to_parent, report)) break;
+      }
+    std::_Exit(0); // no exit handlers: they belong to the parent
+  }
+
+public:
+  /// Wall time of the sweep's own work on the cases run here: forking and reaping them,
+  /// collecting their quantities, their records and sweep.csv [s].
+  double machinery_seconds = 0;
+  unsigned int cases_run = 0;
+
+private:
   std::string describe(const io::StudyCase &c) const
   {
     std::vector<std::string> items;
@@ -484,6 +631,14 @@ private:
   void finish_case(const std::size_t i, const int code, const std::string &message, const double cpu, const double wall,
                    const std::string &who)
   {
+    const auto start = std::chrono::steady_clock::now();
+    struct AddTime // the time of this function is the sweep's, however it returns
+    {
+      double &sum;
+      std::chrono::steady_clock::time_point start;
+      ~AddTime() { sum += seconds_since(start); }
+    } add_time{machinery_seconds, start};
+    ++cases_run;
     CaseRecord r;
     r.exit_status = code;
     r.status = status_of_exit(code);
@@ -534,7 +689,7 @@ int sweep_command(const Options &options, const io::SceneFile &file)
 {
   const auto start = std::chrono::steady_clock::now();
   const bool on_mpi = base::started_by_mpirun();
-  if (on_mpi && options.jobs > 1)
+  if (on_mpi && options.jobs > 0)
     throw InputError("-j", "runs cases in processes of one machine; under mpirun every MPI process runs cases: give one, not both");
   int rank = 0, size = 1;
   if (on_mpi)
@@ -547,11 +702,22 @@ int sweep_command(const Options &options, const io::SceneFile &file)
       MPI_Comm_rank(MPI_COMM_WORLD, &rank);
       MPI_Comm_size(MPI_COMM_WORLD, &size);
     }
+  // Not given: as many cases at once as this process may use cores (a study is many independent
+  // runs; each uses one core), said in the log.
+  unsigned int jobs = options.jobs;
+  std::string jobs_text = std::to_string(jobs) + " at once (-j)";
+  if (jobs == 0)
+    {
+      cpu_set_t cores;
+      CPU_ZERO(&cores);
+      jobs = sched_getaffinity(0, sizeof cores, &cores) == 0 ? std::max(1, CPU_COUNT(&cores)) : 1;
+      jobs_text = std::to_string(jobs) + " at once (chosen: the cores this process may use; -j N sets it)";
+    }
   Sweep sweep(options, file);
   const auto &study = sweep.the_study();
   if (rank == 0)
     std::cout << "flextrack sweep: " << options.file << "\n  scene " << study.scene << ", " << study.design << " design, "
-              << sweep.size() << " cases, " << (on_mpi ? std::to_string(size) + " MPI processes" : std::to_string(options.jobs) + " at once (-j)")
+              << sweep.size() << " cases, " << (on_mpi ? std::to_string(size) + " MPI processes" : jobs_text)
               << "; results in " << sweep.output_folder() << "/" << std::endl;
   sweep.check_every_case();
   const unsigned int finished = sweep.find_finished_cases();
@@ -560,7 +726,7 @@ int sweep_command(const Options &options, const io::SceneFile &file)
     std::cout << "  " << finished << " cases finished by an earlier run of this study (case.json, same entries): " << list.size()
               << " to run" << std::endl;
   if (on_mpi) MPI_Barrier(MPI_COMM_WORLD); // every process has seen which cases are done
-  const int signal = on_mpi ? sweep.run_on_mpi_process(list) : sweep.run_forked(list, options.jobs);
+  const int signal = on_mpi ? sweep.run_on_mpi_process(list) : sweep.run_forked(list, jobs);
   if (rank != 0) return signal ? 128 + signal : 0;
   io::OutputFolder(sweep.output_folder()).create();
   sweep.write_table(true);
@@ -575,8 +741,9 @@ int sweep_command(const Options &options, const io::SceneFile &file)
     }
   std::cout << "  " << n_done << " of " << sweep.size() << " cases: " << base::joined(counts, ", ") << "; study wall time "
             << std::setprecision(3) << wall << " s";
-  if (!list.empty() && !on_mpi && options.jobs == 1)
-    std::cout << ", of which " << std::max(0.0, wall - sweep.case_wall_time_sum()) << " s outside the cases (checks, fork, records, sweep.csv, plot)";
+  if (sweep.cases_run > 0)
+    std::cout << "\n  the sweep's own work per case: " << std::setprecision(2) << 1e3 * sweep.machinery_seconds / sweep.cases_run
+              << " ms (fork, collecting, case.json, sweep.csv" << (on_mpi ? ", on the first process" : "") << ")";
   std::cout << "\n  results in " << sweep.output_folder() << "/ (sweep.csv" << (plot.empty() ? "" : ", " + plot)
             << ", case_NNNN/)" << std::endl;
   if (n_done < sweep.size())

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <sstream>
 
 namespace flextrack::reduction
@@ -126,9 +128,31 @@ void check_arm_geometry(const geometry::Curve &curve, const ArmModeData &arm)
     }
 }
 
+namespace
+{
+/// The arm geometries this process has rebuilt, by their text. A curve and its frame take tens
+/// of milliseconds to build (arc length, the checks of geometry::parse_curve, the frame's
+/// transport) and are immutable: a run reads each reduced body twice (its own run and the rigid
+/// reference run), and a worker of `flextrack sweep` the same bodies in every case.
+ArmGeometry parsed_once(const std::string &text)
+{
+  static std::mutex mutex;
+  static std::map<std::string, ArmGeometry> known;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (const auto found = known.find(text); found != known.end()) return found->second;
+  }
+  ArmGeometry g = parse_arm_geometry(text); // throws for a text that does not rebuild: nothing kept
+  std::lock_guard<std::mutex> lock(mutex);
+  if (known.size() >= 64) known.clear(); // a bound, for a long study of many geometries
+  known.emplace(text, g);
+  return g;
+}
+} // namespace
+
 void rebuild_arm_geometry(ArmModeData &arm)
 {
-  auto g = parse_arm_geometry(arm.geometry_parameters);
+  auto g = parsed_once(arm.geometry_parameters);
   check_arm_geometry(*g.curve, arm);
   arm.curve = std::move(g.curve);
   arm.frame = std::move(g.frame);

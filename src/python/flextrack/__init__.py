@@ -188,15 +188,16 @@ def run(scene, set=None, output=None, executable=None, quiet=True):
     return RunResults(folder, log)
 
 
-def sweep(study, set=None, output=None, jobs=1, mpi_processes=None, executable=None, quiet=True):
-    """Runs `flextrack sweep STUDY` (`jobs` cases at once, or under `mpirun -np mpi_processes`)
+def sweep(study, set=None, output=None, jobs=None, mpi_processes=None, executable=None, quiet=True):
+    """Runs `flextrack sweep STUDY` (`jobs` cases at once, default one per core, or under
+    `mpirun -np mpi_processes`)
     with the entries of `set` applied to the study file, into `output`; returns SweepResults. A
     failed case is a row of the table (its 'status'), not an exception."""
     arguments = ["sweep", os.fspath(study)] + _set_arguments(set)
     if output is not None:
         arguments += ["-o", os.fspath(output)]
-    if not mpi_processes and jobs != 1:
-        arguments += ["-j", str(jobs)]
+    if not mpi_processes and jobs is not None:
+        arguments += ["-j", str(int(jobs))]
     log = _start(arguments, output, executable, quiet, mpi_processes)
     folder = output if output is not None else _folder_from_log(log)
     return SweepResults(folder, log)
