@@ -59,6 +59,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -267,13 +268,15 @@ public:
 
   /// Refuses (InputError, naming the case) an entry of any case that its scene or body scene does
   /// not declare or whose value does not match; only parameter files are read (no process of a
-  /// sweep has started threads before its cases are forked).
-  void check_every_case() const
+  /// sweep has started threads before its cases are forked). Checks the cases @p first,
+  /// first + @p stride, ... (the share of one MPI process).
+  void check_every_case(const unsigned int first = 0, const unsigned int stride = 1) const
   {
     std::set<std::string> bodies_checked;
-    for (const auto &c : cases)
+    for (std::size_t i = first; i < cases.size(); i += stride)
       try
         {
+          const auto &c = cases[i];
           const auto scene = io::SceneFile::read(study.scene, c.set);
           dealii::ParameterHandler prm;
           io::declare_multibody_scene(prm, multibody::SceneNames::parse_name_lists(*scene.lists));
@@ -301,7 +304,7 @@ public:
         }
       catch (const InputError &e)
         {
-          throw InputError("", "case " + std::to_string(c.number) + " (" + describe(c) + "): " + e.what(), study.file);
+          throw InputError("", "case " + std::to_string(cases[i].number) + " (" + describe(cases[i]) + "): " + e.what(), study.file);
         }
   }
 
@@ -453,17 +456,27 @@ public:
     // The counter of the cases taken, on the first process. One process needs no window (and
     // Open MPI 4.1 refuses one there: "MPI_ERR_WIN: invalid window"); where a window cannot be
     // made the processes take every size-th case instead (said in the log).
-    long counter = 0;
+    // MPI_Win_allocate, not MPI_Win_create: the library then places the counter where every
+    // process can update it without the first process's help (shared memory on one node, network
+    // atomics between nodes); with MPI_Win_create (Open MPI's pt2pt/rdma path) a process waited
+    // for the first one to finish its case: 2 processes were 1.43 times as fast as 1, not 1.9.
+    long *counter = nullptr;
     MPI_Win window = MPI_WIN_NULL;
     bool shared_counter = false;
     if (size > 1)
       {
         MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
-        int made = MPI_Win_create(rank == 0 ? &counter : nullptr, rank == 0 ? sizeof counter : 0, sizeof counter,
-                                  MPI_INFO_NULL, MPI_COMM_WORLD, &window);
+        int made = MPI_Win_allocate(rank == 0 ? sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &counter, &window);
         MPI_Allreduce(MPI_IN_PLACE, &made, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
         MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
         shared_counter = made == MPI_SUCCESS;
+        if (shared_counter && rank == 0)
+          {
+            MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, window);
+            *counter = 0;
+            MPI_Win_unlock(0, window);
+          }
+        MPI_Barrier(MPI_COMM_WORLD);
         if (!shared_counter && rank == 0)
           std::cout << "  no one-sided MPI window here: process k runs cases k, k + " << size << ", ... (no dynamic queue)" << std::endl;
       }
@@ -719,7 +732,28 @@ int sweep_command(const Options &options, const io::SceneFile &file)
     std::cout << "flextrack sweep: " << options.file << "\n  scene " << study.scene << ", " << study.design << " design, "
               << sweep.size() << " cases, " << (on_mpi ? std::to_string(size) + " MPI processes" : jobs_text)
               << "; results in " << sweep.output_folder() << "/" << std::endl;
-  sweep.check_every_case();
+  if (!on_mpi)
+    sweep.check_every_case();
+  else
+    {
+      // Each process checks its share of the cases; the first bad case of all is reported (by the
+      // process that found it), and every process ends with exit status 2.
+      int bad = std::numeric_limits<int>::max();
+      std::optional<InputError> found;
+      try
+        {
+          sweep.check_every_case(rank, size);
+        }
+      catch (const InputError &e)
+        {
+          found = e;
+          bad = std::stoi(e.message().substr(5)); // "case N (...": its number
+        }
+      int first_bad = bad;
+      MPI_Allreduce(&bad, &first_bad, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+      if (found && bad == first_bad) throw *found;
+      if (first_bad != std::numeric_limits<int>::max()) return 2; // reported by another process
+    }
   const unsigned int finished = sweep.find_finished_cases();
   const auto list = sweep.pending();
   if (rank == 0 && finished > 0)
