@@ -41,7 +41,9 @@ public:
     if (!std::filesystem::exists(folder, ec)) created_folder = std::filesystem::create_directories(folder, ec);
     descriptor = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
     if (descriptor < 0) return; // a read-only folder: no lock; writing the body reports the folder
-    if (flock(descriptor, LOCK_EX | LOCK_NB) != 0)
+    // A file system without flock (ENOLCK, EOPNOTSUPP): no lock; two processes may then reduce
+    // the same body at once, each writing its file atomically.
+    if (flock(descriptor, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK)
       {
         log << "  waiting for another process that is reducing this body (" << file << ")" << std::endl;
         while (flock(descriptor, LOCK_EX) != 0 && errno == EINTR) {}
