@@ -92,7 +92,7 @@ int linearize_command(const Options &options, const io::SceneFile &file)
     .add("modes", static_cast<unsigned int>(modes.size()))
     .add("frequencies_Hz", frequencies)
     .add("unstable_modes", unstable)
-    .add("total_wall_time_s", clock.wall.wall_time())
+    .add("total_wall_time_s", clock.total_for_summary())
     .raw("parameters", io::parameters_as_json(*scene.parameters));
   out.add_summary(summary);
   out.commit();

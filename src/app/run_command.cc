@@ -318,7 +318,7 @@ int run_command(const Options &options, const io::SceneFile &file)
       }
     summary
       .add("wall_time_s", io::timings_json(timer))
-      .add("total_wall_time_s", clock.wall.wall_time())
+      .add("total_wall_time_s", clock.total_for_summary())
       .add("peak_memory_MiB", io::peak_memory_mib())
       .raw("parameters", io::parameters_as_json(*scene.parameters));
     out.add_summary(summary);
