@@ -26,8 +26,11 @@ flextrack_track_bad_input(track_on_unknown_arm
 flextrack_track_bad_input(track_start_off_the_arm
   "start_off_arm.prm: entry 'Joint slide/Start arc length': 5 m is beyond the end of arm 'arm1' .0.942478 m." start_off_arm.prm)
 flextrack_track_bad_input(track_drive_off_the_arm
-  "drive_off_arm.prm: entry 'Joint slide/Driver': puts the contact at s = 2 m at t = 0, off arm 'arm1' .0 to 0.942478 m."
+  "drive_off_arm.prm: entry 'Joint slide/Driver': puts the contact at s = 2 m at t = 0 s, off arm 'arm1' .0 to 0.942478 m."
   drive_off_arm.prm)
+flextrack_track_bad_input(track_start_contradicts_the_driver
+  "start_contradicts_driver.prm: entry 'Joint slide/Start arc length': 0.5 m contradicts 'Driver', which gives the arc length 0.3 m at the start time t = 0 s"
+  start_contradicts_driver.prm)
 flextrack_track_bad_input(sleeve_arms_do_not_meet
   "sleeve_arms_apart.prm: entry 'Joint sleeve/Start arc length 1': arm 'arm2' at s = 0.2 m and arm 'arm1' at s = 0.3 m are 0.5 m apart"
   sleeve_arms_apart.prm)

@@ -186,12 +186,26 @@ ContactInput parse_contact(ParameterHandler &prm, const std::string &prefix, con
   c.s0_rate = geometry::get_number(prm, "Start speed" + suffix, prefix, {-1e6, 1e6, true, "m/s"});
   if (c.sliding.drive == TrackDrive::motion) // the drive decides where the contact starts
     {
-      const geometry::Jet start = c.sliding.law->jet(0.0);
+      const double t0 = window.start;
+      const geometry::Jet start = c.sliding.law->jet(t0);
+      // A start the scene gives as well must agree (issue 25, item 4: 'Start arc length 1'
+      // contradicting 'Driver 1' was dropped silently). 0, the default, is taken as not given.
+      const auto refuse_contradiction = [&](const std::string &entry, const double given, const double driven,
+                                            const std::string &unit, const std::string &what) {
+        if (given != 0 && !(std::abs(given - driven) <= 1e-9 * (1 + std::abs(driven) + L)))
+          throw InputError(prefix + entry + suffix, number_text(given) + " " + unit + " contradicts 'Driver" + suffix +
+                                                      "', which gives " + what + " " + number_text(driven) + " " + unit +
+                                                      " at the start time t = " + number_text(t0) +
+                                                      " s: a motion-driven contact starts where its driver puts it; "
+                                                      "leave '" + entry + suffix + "' out, or make the two agree");
+      };
+      refuse_contradiction("Start arc length", c.s0, start.value(), "m", "the arc length");
+      refuse_contradiction("Start speed", c.s0_rate, start.derivative(1), "m/s", "the speed");
       c.s0 = start.value();
       c.s0_rate = start.derivative(1);
       if (!(c.s0 >= 0 && c.s0 <= L))
-        throw InputError(driver_entry, "puts the contact at s = " + number_text(c.s0) + " m at t = 0, off arm '" +
-                                         c.arm->name + "' (0 to " + number_text(L) + " m)");
+        throw InputError(driver_entry, "puts the contact at s = " + number_text(c.s0) + " m at t = " + number_text(t0) +
+                                         " s, off arm '" + c.arm->name + "' (0 to " + number_text(L) + " m)");
     }
   else if (c.s0 > L)
     throw InputError(prefix + "Start arc length" + suffix, number_text(c.s0) + " m is beyond the end of arm '" +
