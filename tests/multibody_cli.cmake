@@ -31,6 +31,8 @@ flextrack_multibody_check(run_results_h5_is_written_as_the_run_goes results_writ
                           ${CMAKE_SOURCE_DIR}/prm/pendulum.prm)
 flextrack_multibody_check(run_set_on_command_line_equals_the_edited_files set_on_command_line
                           ${CMAKE_SOURCE_DIR}/prm/cantilever_body.prm)
+flextrack_multibody_check(run_slider_off_its_track_is_said slider_off_its_track_is_said
+                          ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_on_arc.prm)
 flextrack_multibody_check(run_passage_timed_to_the_end_time_completes passage_ends_at_end_time
                           ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_on_arc.prm)
 flextrack_multibody_check(run_energy_balance_stays_small_at_turning_points energy_balance_at_turning_points

@@ -182,6 +182,7 @@ int run_command(const Options &options, const io::SceneFile &file)
   auto &system = *scene.system;
   const auto &settings = scene.settings;
   for (const auto &d : scene.body_descriptions) std::cout << "  body " << d << "\n";
+  for (const auto &n : scene.notes) std::cout << "  note: " << n << "\n";
   std::cout << "  " << system.n_joints() << " joints, " << system.n_forces() << " forces, " << scene.probes.size()
             << " probes; " << system.size() << " unknowns (" << system.n_q() << " positions, " << system.n_v()
             << " velocities, " << system.n_lambda() + system.n_mu() << " multipliers)" << std::endl;
@@ -288,6 +289,7 @@ int run_command(const Options &options, const io::SceneFile &file)
       .add("command", "run")
       .add("parameter_file", options.file)
       .add("set_on_command_line", io::override_texts(options.overrides))
+      .add("notes", scene.notes)
       .add("status", signal ? "interrupted" : failure.empty() ? "completed" : "failed")
       .add("failure", failure)
       .add("start_time_s", settings.start_time)

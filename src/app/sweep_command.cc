@@ -279,7 +279,8 @@ public:
           const auto &c = cases[i];
           const auto scene = io::SceneFile::read(study.scene, c.set);
           dealii::ParameterHandler prm;
-          io::declare_multibody_scene(prm, multibody::SceneNames::parse_name_lists(*scene.lists));
+          const auto names = multibody::SceneNames::parse_name_lists(*scene.lists);
+          io::declare_multibody_scene(prm, names);
           scene.parse(prm, false);
           for (const auto &o : c.set)
             {
@@ -288,6 +289,9 @@ public:
               const std::string body = o.scope.substr(5); // "Body NAME"
               for (const auto &own : scene.overrides_of(body)) signature += "\n" + own.text();
               if (!bodies_checked.insert(signature).second) continue;
+              if (std::find(names.bodies.begin(), names.bodies.end(), body) == names.bodies.end())
+                throw InputError("--set", "'" + o.text() + "': the scene has no body '" + body + "'; its bodies: " +
+                                            base::joined(names.bodies));
               prm.enter_subsection(o.scope);
               const std::string body_scene = base::trim(prm.get("Body scene"));
               prm.leave_subsection();
@@ -305,6 +309,11 @@ public:
       catch (const InputError &e)
         {
           throw InputError("", "case " + std::to_string(cases[i].number) + " (" + describe(cases[i]) + "): " + e.what(), study.file);
+        }
+      catch (const dealii::ExceptionBase &e) // deal.II's own refusal of a name: still the case's input
+        {
+          throw InputError("", "case " + std::to_string(cases[i].number) + " (" + describe(cases[i]) + "): " +
+                                 base::printable_excerpt(base::trim(e.what()), 300), study.file);
         }
   }
 
@@ -342,11 +351,12 @@ public:
       int to = -1, from = -1;     // pipes to and from the worker
       std::size_t index = 0;      // the case it runs
       bool busy = false;
+      bool dead = false;          // ended before it took its case: start another
       double cpu_reported = 0;    // CPU time of its finished cases [s]
       std::chrono::steady_clock::time_point start;
     };
     std::vector<Worker> workers(std::min<std::size_t>(jobs, list.size()));
-    std::size_t next = 0;
+    std::size_t next = 0, started = 0;
     bool stopping = false;
     const auto give_next = [&](Worker &w) {
       std::uint64_t message = std::numeric_limits<std::uint64_t>::max(); // stop
@@ -357,11 +367,23 @@ public:
           message = w.index;
           w.start = std::chrono::steady_clock::now();
         }
-      if (::write(w.to, &message, sizeof message) != sizeof message) w.busy = false; // it died: reaped below
+      if (!write_exactly(w.to, &message, sizeof message) && w.busy) // it died between cases: the case goes back
+        {
+          --next;
+          w.busy = false;
+          w.dead = true;
+        }
     };
     const auto start_worker = [&](Worker &w) {
+      if (++started > 2 * list.size() + 16) throw std::runtime_error("sweep: the worker processes keep dying before their first case");
       int down[2], up[2];
-      if (pipe2(down, O_CLOEXEC) != 0 || pipe2(up, O_CLOEXEC) != 0) throw std::runtime_error("sweep: cannot create a pipe");
+      if (pipe2(down, O_CLOEXEC) != 0) throw std::runtime_error("sweep: cannot create a pipe");
+      if (pipe2(up, O_CLOEXEC) != 0)
+        {
+          ::close(down[0]);
+          ::close(down[1]);
+          throw std::runtime_error("sweep: cannot create a pipe");
+        }
       std::cout.flush();
       std::fflush(nullptr);
       const pid_t pid = fork();
@@ -381,8 +403,28 @@ public:
       give_next(w);
     };
     std::signal(SIGPIPE, SIG_IGN); // a worker that died: its pipe says so, not a signal
+    // A worker that reduces a body starts MPI as a singleton, and ends without MPI_Finalize
+    // (_Exit): their session files go to one folder of this study's, removed at the end.
+    const std::string mpi_folder = base::prepare_singleton_mpi();
     base::watch_interrupts();
+    const auto replace_dead_workers = [&] {
+      for (auto &w : workers)
+        if (w.dead)
+          {
+            if (w.pid > 0) // never kill(-1): that would be every process
+              {
+                kill(w.pid, SIGKILL);
+                waitpid(w.pid, nullptr, 0);
+              }
+            ::close(w.to);
+            ::close(w.from);
+            w.dead = false;
+            w.pid = -1;
+            if (!stopping && next < list.size()) start_worker(w);
+          }
+    };
     for (auto &w : workers) start_worker(w);
+    replace_dead_workers();
     bool forwarded = false;
     while (std::any_of(workers.begin(), workers.end(), [](const Worker &w) { return w.busy; }))
       {
@@ -410,10 +452,11 @@ public:
                 if (report.code > 128) stopping = true; // interrupted: the study stops
                 give_next(w);
               }
-            else // the worker died with its case
+            else // the worker died with its case (or said something unreadable: it is ended)
               {
                 int status = 0;
                 rusage usage{};
+                if (waitpid(w.pid, nullptr, WNOHANG) == 0) kill(w.pid, SIGKILL);
                 wait4(w.pid, &status, 0, &usage);
                 ::close(w.to);
                 ::close(w.from);
@@ -426,20 +469,23 @@ public:
                               " (log: " + cases[w.index].folder + "/log.txt)",
                             cpu, wall, "");
                 w.busy = false;
+                w.pid = -1;
                 if (!stopping && next < list.size()) start_worker(w);
               }
+            replace_dead_workers();
             const auto written = std::chrono::steady_clock::now();
             write_table(false); // sweep.csv grows as the cases end
             machinery_seconds += seconds_since(written);
           }
       }
     for (auto &w : workers)
-      if (w.pid > 0 && waitpid(w.pid, nullptr, WNOHANG) == 0)
+      if (w.pid > 0)
         {
           ::close(w.to); // a worker that was told to stop ends; one still reading ends at EOF
           ::close(w.from);
           waitpid(w.pid, nullptr, 0);
         }
+    base::remove_mpi_session_folder(mpi_folder);
     const int signal = base::interrupted();
     base::stop_watching_interrupts();
     std::signal(SIGPIPE, SIG_DFL);
@@ -500,17 +546,16 @@ public:
           }
         if (taken >= static_cast<long>(list.size())) break;
         const std::size_t i = list[taken];
-        const auto start = std::chrono::steady_clock::now();
-        const double cpu_start = process_cpu_seconds();
-        std::string message;
         int code = 0;
-        {
-          std::error_code ec;
-          fs::create_directories(cases[i].folder, ec);
-          OutputToFile log(cases[i].folder + "/log.txt");
-          code = run_case_here(study, cases[i], message);
-        }
-        finish_case(i, code, message, process_cpu_seconds() - cpu_start, seconds_since(start), who);
+        try
+          {
+            code = run_and_record_here(i, who);
+          }
+        catch (const std::exception &e) // e.g. case.json on a full disk: the others would wait forever
+          {
+            std::cerr << "flextrack: sweep: process " << rank << ": " << e.what() << "; stopping every process" << std::endl;
+            MPI_Abort(MPI_COMM_WORLD, 4);
+          }
         if (code > 128) // interrupted: mpirun signalled the other processes too
           {
             stopped_by = code - 128;
@@ -523,6 +568,24 @@ public:
     if (rank == 0) find_finished_cases();
     MPI_Allreduce(MPI_IN_PLACE, &stopped_by, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     return stopped_by;
+  }
+
+  /// mpirun: runs case @p i in this process and records it; returns its exit status.
+  int run_and_record_here(const std::size_t i, const std::string &who)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
+    std::string message;
+    int code = 0;
+    {
+      std::error_code ec;
+      fs::remove_all(cases[i].folder, ec); // a previous run's results are not this case's
+      fs::create_directories(cases[i].folder, ec);
+      OutputToFile log(cases[i].folder + "/log.txt");
+      code = run_case_here(study, cases[i], message);
+    }
+    finish_case(i, code, message, process_cpu_seconds() - cpu_start, seconds_since(start), who);
+    return code;
   }
 
   /// sweep.csv (atomically); @p with_differences: with the quantities compared with the
@@ -606,6 +669,9 @@ private:
   [[noreturn]] void work_on_cases(const int from_parent, const int to_parent) const
   {
     prctl(PR_SET_PDEATHSIG, SIGTERM); // the study killed: its cases stop too
+    // Out of the terminal's process group: Ctrl-C reaches the study alone, which passes it on
+    // once (a second signal would end a case at once, without its results).
+    setpgid(0, 0);
     base::stop_watching_interrupts();
     std::signal(SIGPIPE, SIG_DFL);
     for (std::uint64_t i = 0; read_exactly(from_parent, &i, sizeof i) && i < cases.size();)
@@ -615,6 +681,7 @@ private:
         const double cpu_start = process_cpu_seconds();
         {
           std::error_code ec;
+          fs::remove_all(cases[i].folder, ec); // a previous run's results are not this case's
           fs::create_directories(cases[i].folder, ec);
           OutputToFile log(cases[i].folder + "/log.txt");
           report.code = run_case_here(study, cases[i], report.message);
@@ -658,7 +725,9 @@ private:
     r.message = message;
     r.cpu_time_s = cpu;
     r.wall_time_s = wall;
-    r.collected = io::collect_quantities(study.quantities, cases[i].folder);
+    // Only a completed case has its quantities; a failed one's partial rows would mislead.
+    r.collected = r.status == "completed" ? io::collect_quantities(study.quantities, cases[i].folder)
+                                          : std::vector<std::string>(study.quantities.size());
     std::cout << "  case " << cases[i].number << "/" << cases.size() << who << ": " << r.status << ", "
               << std::setprecision(3) << cpu << " s CPU (" << describe(cases[i]) << ")"
               << (message.empty() ? "" : ": " + base::printable_excerpt(message, 300)) << std::endl;
@@ -684,10 +753,9 @@ private:
         r.message = tree.get<std::string>("message");
         r.cpu_time_s = tree.get<double>("cpu_time_s");
         r.wall_time_s = tree.get<double>("wall_time_s");
-        r.collected.clear();
-        for (const auto &v : tree.get_child("collected")) r.collected.push_back(v.second.data());
-        // A study whose quantities changed collects them again from the case's results.
-        if (r.collected.size() != study.quantities.size()) r.collected = io::collect_quantities(study.quantities, c.folder);
+        // Collected again from the case's results: the study's quantities may have changed.
+        r.collected = r.status == "completed" ? io::collect_quantities(study.quantities, c.folder)
+                                              : std::vector<std::string>(study.quantities.size());
         return true;
       }
     catch (const std::exception &)

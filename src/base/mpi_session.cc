@@ -11,7 +11,11 @@ namespace
 MPI_Comm fe_comm = MPI_COMM_WORLD;
 }
 
-bool started_by_mpirun() { return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr; }
+bool started_by_mpirun()
+{
+  // Open MPI's mpirun, or a PMI/PMIx launcher (MPICH's hydra, Slurm's srun).
+  return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK");
+}
 
 MPI_Comm fe_communicator() { return fe_comm; }
 

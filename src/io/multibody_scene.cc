@@ -392,7 +392,11 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
       const auto lookup = system.body_lookup();
       const geometry::TimeWindow window{scene.settings.start_time, scene.settings.end_time}; // laws checked over it
       for (const auto &j : scene.names.joints)
-        in_instance(prm, "Joint", j, [&] { system.add_joint(create_joint(j, prm, lookup, window)); });
+        in_instance(prm, "Joint", j, [&] {
+          auto joint = create_joint(j, prm, lookup, window);
+          if (!joint->note().empty()) scene.notes.push_back("joint " + j + ": " + joint->note());
+          system.add_joint(std::move(joint));
+        });
       for (const auto &f : scene.names.forces)
         in_instance(prm, "Force", f, [&] { system.add_force(create_force(f, prm, lookup, window)); });
       for (const auto &p : scene.names.probes)

@@ -35,6 +35,8 @@ struct MultibodyScene
   std::vector<std::unique_ptr<multibody::Probe>> probes;
   /// One line per body: "crank: rigid, 0.5 kg", "boom: flexible, 26 modes (cached ...)".
   std::vector<std::string> body_descriptions;
+  /// What the log should say of the scene as written (joint notes: a slider held off its track).
+  std::vector<std::string> notes;
   std::string output_directory; ///< Output/Directory (empty: the default rule of OutputFolder)
   double animation_interval = 0; ///< Output/Animation interval [s]; 0: no animation
   double max_results_gib = 2;     ///< Output/Maximum results size [GiB]

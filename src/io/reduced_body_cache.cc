@@ -10,6 +10,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -37,16 +38,29 @@ public:
     const auto path = std::filesystem::path(file);
     folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
     lock = folder / ("." + path.filename().string() + ".lock");
-    std::error_code ec;
-    if (!std::filesystem::exists(folder, ec)) created_folder = std::filesystem::create_directories(folder, ec);
-    descriptor = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
-    if (descriptor < 0) return; // a read-only folder: no lock; writing the body reports the folder
-    // A file system without flock (ENOLCK, EOPNOTSUPP): no lock; two processes may then reduce
-    // the same body at once, each writing its file atomically.
-    if (flock(descriptor, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK)
+    bool said = false;
+    for (int attempt = 0; attempt < 100; ++attempt)
       {
-        log << "  waiting for another process that is reducing this body (" << file << ")" << std::endl;
-        while (flock(descriptor, LOCK_EX) != 0 && errno == EINTR) {}
+        std::error_code ec;
+        if (!std::filesystem::exists(folder, ec)) created_folder = std::filesystem::create_directories(folder, ec) || created_folder;
+        descriptor = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+        if (descriptor < 0) return; // a read-only folder: no lock; writing the body reports the folder
+        // A file system without flock (ENOLCK, EOPNOTSUPP): no lock; two processes may then reduce
+        // the same body at once, each writing its file atomically.
+        if (flock(descriptor, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK)
+          {
+            if (!said) log << "  waiting for another process that is reducing this body (" << file << ")" << std::endl;
+            said = true;
+            while (flock(descriptor, LOCK_EX) != 0 && errno == EINTR) {}
+          }
+        // The holder may have removed the lock file (a failed first reduction in a folder it
+        // made): then this lock is on a file nobody else sees; lock the one at the path.
+        struct stat held{}, named{};
+        if (fstat(descriptor, &held) == 0 && ::stat(lock.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
+            held.st_dev == named.st_dev)
+          return;
+        ::close(descriptor);
+        descriptor = -1;
       }
   }
   void obtained() { success = true; }

@@ -80,7 +80,16 @@ std::vector<std::string> parse_values(const std::string &text, const std::string
       const double n = std::floor((to - from) / step * (1 + 1e-12) + 1e-9);
       if (n >= max_cases)
         throw InputError(entry, "the range '" + item + "' has more than " + std::to_string(max_cases) + " values");
-      for (unsigned int k = 0; k <= n; ++k) values.push_back(value_text(from + k * step));
+      // FROM + k STEP in floating point: 0.3 - 3 x 0.1 is -5.6e-17, not 0 (an entry that must not
+      // be negative would refuse it), and the last value may miss TO by as much.
+      const double scale = std::max({std::abs(from), std::abs(to), std::abs(step)});
+      for (unsigned int k = 0; k <= n; ++k)
+        {
+          double x = from + k * step;
+          if (std::abs(x - to) <= 1e-9 * std::abs(step)) x = to;
+          if (std::abs(x) <= 1e-12 * scale) x = 0;
+          values.push_back(value_text(x));
+        }
     }
   if (values.empty()) throw InputError(entry, "gives no value; e.g. 'Values = 4, 8, 16' or 'Values = 0.5:0.25:1.5'");
   return values;

@@ -35,6 +35,10 @@ public:
   explicit Joint(std::string name) : joint_name(std::move(name)) {}
   virtual ~Joint() = default;
   const std::string &name() const { return joint_name; }
+  /// What the run's log should say of this joint as the scene placed it (a slider held off its
+  /// track, issue 25 item 4), "" if nothing.
+  const std::string &note() const { return joint_note; }
+  void set_note(std::string text) { joint_note = std::move(text); }
 
   virtual unsigned int n_equations() const = 0;
   /// The bodies it touches, in a fixed order (the first is the one the reaction acts on).
@@ -83,6 +87,6 @@ public:
                         Vector3 &force, Vector3 &torque) const = 0;
 
 private:
-  std::string joint_name;
+  std::string joint_name, joint_note;
 };
 } // namespace flextrack::multibody

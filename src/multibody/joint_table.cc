@@ -255,7 +255,18 @@ std::unique_ptr<Joint> make_track_joint(const std::string &name, ParameterHandle
     {
       throw InputError(prefix + "Interface 1", e.message());
     }
-  return std::make_unique<TrackJoint>(name, std::move(follower), std::move(track), mask, contact.sliding);
+  auto joint = std::make_unique<TrackJoint>(name, std::move(follower), std::move(track), mask, contact.sliding);
+  // A slider placed away from its track rides on it at that offset, as on a rigid lever: that
+  // may be meant (a carriage hanging below its rail), but it is said (issue 25, item 4: a body
+  // 0.37 m off its track ran with its mass there, and the log said "moved 0 m").
+  const double offset = q1.size() >= 3 ? (k.position - Vector3({q1[0], q1[1], q1[2]})).norm() : 0; // ground: none
+  if (base::trim(prm.get("Interface 1")).empty() && offset > 1e-6 * (1 + contact.arm->curve->length()))
+    joint->set_note("body '" + slider.name() + "' is held " + number_text(offset) + " m from its contact point on arm '" +
+                    contact.arm->name + "' (s = " + number_text(contact.s0) + " m, at " + number_text(k.position[0]) + ", " +
+                    number_text(k.position[1]) + ", " + number_text(k.position[2]) +
+                    " m): it rides on the track at that offset, as on a rigid lever; place the body there to centre it "
+                    "on the track");
+  return joint;
 }
 
 std::unique_ptr<Joint> make_sleeve(const std::string &name, ParameterHandler &prm, const BodyLookup &bodies,

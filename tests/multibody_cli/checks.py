@@ -637,5 +637,22 @@ def linearize_neutral_slider(exe, scene, out):
     check(abs(friction + 0.2) < 2e-3 * 0.2, f"the sliding mode's eigenvalue {friction:.6f} 1/s = -c/m = -0.2 1/s (0.2 %)")
 
 
+def slider_off_its_track_is_said(exe, scene, out):
+    # Issue 25, item 4: a slider body placed 0.37 m off its track ran with its mass there and the
+    # log said "moved 0 m". tests/track_input/slider_on_arc.prm has the slider at the contact
+    # point of s = 0.3 m (projected exactly); lifted by 0.37 m along z, the log and summary.json
+    # say the offset (0.37 m, the distance the body was moved: exact to the 6 digits printed).
+    shutil.rmtree(out, ignore_errors=True)
+    log = run(exe, "run", scene, "-o", out + "/on", "--set", "Multibody/End time=0.01").stdout
+    check("note:" not in log, "the slider at its contact point: no note")
+    log = run(exe, "run", scene, "-o", out + "/off", "--set", "Multibody/End time=0.01",
+              "--set", "Body slider/Position=-0.0734490985, 0.2876553232, 0.37").stdout
+    check("note: joint slide: body 'slider' is held 0.37 m from its contact point on arm 'arm1'" in log,
+          "the log says the slider is held 0.37 m from its contact point")
+    with open(os.path.join(out, "off", "summary.json")) as f:
+        notes = json.load(f)["notes"]
+    check(len(notes) == 1 and "0.37 m" in notes[0], f"summary.json's notes say it too: {notes}")
+
+
 if __name__ == "__main__":
     globals()[sys.argv[1]](*sys.argv[2:5])
