@@ -164,6 +164,23 @@ const std::vector<Command> &commands()
   return table;
 }
 
+/// True, with @p value set, if @p text is a whole integer from @p lowest to @p highest.
+bool integer_in(const std::string &text, const int lowest, const int highest, unsigned int &value)
+{
+  try
+    {
+      std::size_t used = 0;
+      const int n = std::stoi(text, &used);
+      if (used != text.size() || n < lowest || n > highest) return false;
+      value = n;
+      return true;
+    }
+  catch (...)
+    {
+      return false;
+    }
+}
+
 /// Options after the command name; returns a usage message, empty if they are fine.
 std::string parse_options(const std::string &command, const std::vector<std::string> &args, Options &options)
 {
@@ -178,34 +195,16 @@ std::string parse_options(const std::string &command, const std::vector<std::str
       else if (args[i] == "--refinements" && command == "converge")
         {
           if (++i == args.size()) return "--refinements needs a number";
-          try
-            {
-              std::size_t used = 0;
-              const int k = std::stoi(args[i], &used);
-              if (used != args[i].size() || k < 1 || k > 12) throw std::out_of_range("K");
-              options.refinements = k;
-              have_refinements = true;
-            }
-          catch (...)
-            {
-              return "--refinements must be an integer from 1 to 12, not '" +
-                     flextrack::base::printable_excerpt(args[i]) + "'";
-            }
+          if (!integer_in(args[i], 1, 12, options.refinements))
+            return "--refinements must be an integer from 1 to 12, not '" + flextrack::base::printable_excerpt(args[i]) + "'";
+          have_refinements = true;
         }
       else if ((args[i] == "-j" || args[i] == "--jobs") && command == "sweep")
         {
           if (++i == args.size()) return "-j needs the number of cases to run at once";
-          try
-            {
-              std::size_t used = 0;
-              const int n = std::stoi(args[i], &used);
-              if (used != args[i].size() || n < 1 || n > 1024) throw std::out_of_range("N");
-              options.jobs = n;
-            }
-          catch (...)
-            {
-              return "-j must be an integer from 1 to 1024, not '" + flextrack::base::printable_excerpt(args[i]) + "'";
-            }
+          // At most 256 workers: two pipes each stay well inside the usual limit of 1024 open files.
+          if (!integer_in(args[i], 1, 256, options.jobs))
+            return "-j must be an integer from 1 to 256, not '" + flextrack::base::printable_excerpt(args[i]) + "'";
         }
       else if (args[i] == "--format" && command == "export")
         {
