@@ -29,7 +29,7 @@ double CurveManifold::pull_back(const Point<3> &p) const
 {
   // Mesh vertices (the points mappings pull back) are found exactly, without a search.
   if (known_points)
-    if (const auto it = known_points->find({p[0], p[1], p[2]}); it != known_points->end())
+    if (const auto it = known_points->find({{p[0], p[1], p[2]}}); it != known_points->end())
       return it->second;
   const double L = curve->length();
   std::size_t best = 0;
@@ -103,7 +103,7 @@ ArmMesh::ArmMesh(const Arm &arm, const unsigned int refinement) : curve(arm.curv
   tria.create_triangulation(vertices, cells, dealii::SubCellData());
   auto known = std::make_shared<std::map<std::array<double, 3>, double>>();
   for (unsigned int i = 0; i < n_vertices; ++i)
-    known->emplace(std::array<double, 3>{vertices[i][0], vertices[i][1], vertices[i][2]}, vertex_s[i]);
+    known->emplace(std::array<double, 3>{{vertices[i][0], vertices[i][1], vertices[i][2]}}, vertex_s[i]);
   tria.set_manifold(0, CurveManifold(curve, known));
 }
 

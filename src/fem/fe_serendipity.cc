@@ -44,7 +44,7 @@ SerendipityPolynomials::SerendipityPolynomials() : ScalarPolynomialsBase<3>(2, 2
         {
           // (1 + xi xi_i)(1 + eta eta_i)(1 + zeta zeta_i)(xi xi_i + eta eta_i + zeta zeta_i - 2) / 8:
           // multiply out the last factor term by term (xi_i^2 = 1).
-          const Poly1 fx = {1, xi, 0}, fy = {1, eta, 0}, fz = {1, zeta, 0};
+          const Poly1 fx = {{1, xi, 0}}, fy = {{1, eta, 0}}, fz = {{1, zeta, 0}};
           const Coefficients base = outer(fx, fy, fz);
           c = {};
           for (int a = 0; a < 3; ++a)
@@ -61,10 +61,10 @@ SerendipityPolynomials::SerendipityPolynomials() : ScalarPolynomialsBase<3>(2, 2
         }
       else
         {
-          const Poly1 bubble = {1, 0, -1};
-          const Poly1 fx = xi == 0 ? bubble : Poly1{1, xi, 0};
-          const Poly1 fy = eta == 0 ? bubble : Poly1{1, eta, 0};
-          const Poly1 fz = zeta == 0 ? bubble : Poly1{1, zeta, 0};
+          const Poly1 bubble = {{1, 0, -1}};
+          const Poly1 fx = xi == 0 ? bubble : Poly1{{1, xi, 0}};
+          const Poly1 fy = eta == 0 ? bubble : Poly1{{1, eta, 0}};
+          const Poly1 fz = zeta == 0 ? bubble : Poly1{{1, zeta, 0}};
           c = outer(fx, fy, fz);
           for (auto &plane : c)
             for (auto &row : plane)

@@ -183,7 +183,7 @@ Solid Solid::parse_parameters(ParameterHandler &prm, const std::string &director
                                     (names.empty() ? "(the mesh has no node sets)" : base::printable_excerpt(names, 200)) +
                                     ", or a plane 'x = value'");
         }
-      support.fixed = {false, false, false};
+      support.fixed = {{false, false, false}};
       for (const auto &c : base::split(components, ','))
         {
           if (c != "x" && c != "y" && c != "z")

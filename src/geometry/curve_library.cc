@@ -102,7 +102,7 @@ struct CurveEntries
 
 CurveEntries entries_of(const std::string &section, const std::string &advice)
 {
-  return {section, {section, section, section}, advice};
+  return {section, {{section, section, section}}, advice};
 }
 
 /// Smallest distance between the segments [a, b] and [c, d] [m] (clamped closest points).
@@ -338,7 +338,7 @@ std::shared_ptr<const Curve> create_arc(ParameterHandler &prm, const ParseContex
   auto y = [R, c](const Jet &s) {
     Jet sn, cs;
     sin_cos((1.0 / R) * s, sn, cs);
-    return Jet3{Jet::constant(c[0]) + R * cs, Jet::constant(c[1]) + R * sn, Jet::constant(c[2])};
+    return Jet3{{Jet::constant(c[0]) + R * cs, Jet::constant(c[1]) + R * sn, Jet::constant(c[2])}};
   };
   return checked(make_curve(where.section + "/Arc", "circular arc", y, 0.0, R * sweep, true),
                  entries_of(where.section + "/Arc", "give a larger Radius and Angle"));
@@ -371,7 +371,7 @@ std::shared_ptr<const Curve> create_helix(ParameterHandler &prm, const ParseCont
   auto y = [a, c, w](const Jet &s) {
     Jet sn, cs;
     sin_cos((1.0 / w) * s, sn, cs);
-    return Jet3{a * cs, a * sn, (c / w) * s};
+    return Jet3{{a * cs, a * sn, (c / w) * s}};
   };
   return checked(make_curve(where.section + "/Helix", "helix", y, 0.0, 2 * M_PI * turns * w, true),
                  entries_of(where.section + "/Helix", "give a larger Radius, Pitch or Turns"));

@@ -50,8 +50,8 @@ std::array<geometry::Expression, 3> expressions(ParameterHandler &prm, const std
   if (items.size() != 3) throw InputError(prefix + entry, "needs three expressions of t separated by ';'");
   try
     {
-      std::array<geometry::Expression, 3> laws{geometry::Expression(items[0], "t"), geometry::Expression(items[1], "t"),
-                                               geometry::Expression(items[2], "t")};
+      std::array<geometry::Expression, 3> laws{{geometry::Expression(items[0], "t"), geometry::Expression(items[1], "t"),
+                                                geometry::Expression(items[2], "t")}};
       for (const auto &law : laws) geometry::check_time_law(law, window, 0);
       return laws;
     }

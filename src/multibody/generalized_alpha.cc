@@ -20,7 +20,7 @@ constexpr double smallest_step = 1e-12;   ///< [s]
 std::array<double, 3> GeneralizedAlphaIntegrator::parameters(const double rho)
 {
   const double alpha_f = rho / (1 + rho), gamma = 1 / (1 + rho);
-  return {0.5 + alpha_f - gamma, alpha_f, gamma};
+  return {{0.5 + alpha_f - gamma, alpha_f, gamma}};
 }
 
 GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(System &s, const IntegratorSettings &settings_)

@@ -27,32 +27,32 @@ GenericJoint::GenericJoint(std::string name, std::unique_ptr<Marker> follower, s
   if (driver == DriverKind::own_coordinate && markers[1]->n_own_coordinates() != 1)
     throw InputError("Joint " + this->name() + "/Driver", "only a joint on a track can drive the arc length");
   for (unsigned int a = 0; a < 3; ++a)
-    if (mask.translation[a]) rows.push_back({RowKind::translation, a, 0, false, std::string("translation along ") + axis_name[a]});
+    if (mask.translation[a]) rows.push_back({RowKind::translation, a, 0, false, std::string("translation along ") + axis_name[a], nullptr});
   if (driver == DriverKind::displacement)
-    rows.push_back({RowKind::translation, 2, 0, true, "driven displacement along z"});
+    rows.push_back({RowKind::translation, 2, 0, true, "driven displacement along z", nullptr});
 
   const unsigned int n_locked = mask.rotation[0] + mask.rotation[1] + mask.rotation[2];
   if (n_locked == 3)
     {
-      rows.push_back({RowKind::rotation, 2, 0, false, "rotation about y (e1_z . e2_x)"});
-      rows.push_back({RowKind::rotation, 2, 1, false, "rotation about x (e1_z . e2_y)"});
-      rows.push_back({RowKind::rotation, 0, 1, false, "rotation about z (e1_x . e2_y)"});
+      rows.push_back({RowKind::rotation, 2, 0, false, "rotation about y (e1_z . e2_x)", nullptr});
+      rows.push_back({RowKind::rotation, 2, 1, false, "rotation about x (e1_z . e2_y)", nullptr});
+      rows.push_back({RowKind::rotation, 0, 1, false, "rotation about z (e1_x . e2_y)", nullptr});
     }
   else if (n_locked == 2)
     {
       const unsigned int c = !mask.rotation[0] ? 0 : !mask.rotation[1] ? 1 : 2, a = (c + 1) % 3, b = (c + 2) % 3;
       rows.push_back({RowKind::rotation, c, a, false,
-                      std::string("rotation about ") + axis_name[b] + " (e1_" + axis_name[c] + " . e2_" + axis_name[a] + ")"});
+                      std::string("rotation about ") + axis_name[b] + " (e1_" + axis_name[c] + " . e2_" + axis_name[a] + ")", nullptr});
       rows.push_back({RowKind::rotation, c, b, false,
-                      std::string("rotation about ") + axis_name[a] + " (e1_" + axis_name[c] + " . e2_" + axis_name[b] + ")"});
+                      std::string("rotation about ") + axis_name[a] + " (e1_" + axis_name[c] + " . e2_" + axis_name[b] + ")", nullptr});
     }
   else if (n_locked == 1)
     {
       const unsigned int c = mask.rotation[0] ? 0 : mask.rotation[1] ? 1 : 2, a = (c + 1) % 3, b = (c + 2) % 3;
       rows.push_back({RowKind::rotation, a, b, false,
-                      std::string("rotation about ") + axis_name[c] + " (e1_" + axis_name[a] + " . e2_" + axis_name[b] + ")"});
+                      std::string("rotation about ") + axis_name[c] + " (e1_" + axis_name[a] + " . e2_" + axis_name[b] + ")", nullptr});
     }
-  if (driver == DriverKind::angle) rows.push_back({RowKind::angle, 0, 0, false, "driven angle about z"});
+  if (driver == DriverKind::angle) rows.push_back({RowKind::angle, 0, 0, false, "driven angle about z", nullptr});
   if (driver == DriverKind::own_coordinate) add_own_driver(markers[0]->n_own_coordinates(), law, "driven arc length s");
 }
 

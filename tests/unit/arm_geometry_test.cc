@@ -302,7 +302,7 @@ TEST(ArmGeometry, text_of_expression_curves_with_constants_rebuilds_the_same_cur
   // whose subsection name has two words ("Arc length") and its Constants come along, the
   // other kinds' subsections do not. Reference: the arm's own curve, equal to 1e-12 L
   // (measured 0: same code, same numbers).
-  for (const std::string &kind : {"arc length", "parametric"})
+  for (const std::string kind : {"arc length", "parametric"})
     {
       dealii::ParameterHandler prm;
       fem::Arm::declare_parameters(prm);

@@ -992,7 +992,7 @@ TEST(MbdynExport, clamp_option_writes_or_leaves_out_the_clamp_of_the_modal_node)
         EXPECT_EQ(text.find("\njoint: flextrack_clamp_joint"), std::string::npos) << what;
       EXPECT_EQ(stated_joint_count(text), static_cast<int>(elm.modal.size() + elm.clamps.size())) << what << ":\n" << text;
       EXPECT_EQ(up_to_the_modal_joint(text), up_to_the_modal_joint(io::mbdyn_elm_text(body, "b.fem"))) << what;
-      if (key.second == io::MbdynClamp::automatic) EXPECT_EQ(text, io::mbdyn_elm_text(body, "b.fem")) << "the default";
+      if (key.second == io::MbdynClamp::automatic) { EXPECT_EQ(text, io::mbdyn_elm_text(body, "b.fem")) << "the default"; }
     }
   EXPECT_NE(io::mbdyn_elm_text(supported, "b.fem", io::MbdynClamp::no).find("--mbdyn-clamp no"), std::string::npos)
     << "the file says why a supported body has no clamp";

@@ -45,8 +45,8 @@ void build(System &s)
                                              marker("ground", Vector3({1, 0.2, 0}), "s2"), 100, 3, 0.5));
   s.add_force(std::make_unique<AppliedLoad>(
     "push", marker("rod", Vector3({r + 0.1, 0, 0.01}), "p1"),
-    std::array<geometry::Expression, 3>{geometry::Expression("sin(t)", "t"), geometry::Expression("2", "t"), geometry::Expression("t", "t")},
-    std::array<geometry::Expression, 3>{geometry::Expression("0.1", "t"), geometry::Expression("0", "t"), geometry::Expression("cos(t)", "t")},
+    std::array<geometry::Expression, 3>{{geometry::Expression("sin(t)", "t"), geometry::Expression("2", "t"), geometry::Expression("t", "t")}},
+    std::array<geometry::Expression, 3>{{geometry::Expression("0.1", "t"), geometry::Expression("0", "t"), geometry::Expression("cos(t)", "t")}},
     true));
   s.add_force(std::make_unique<RotationalSpringDamper>("torsion", marker("rod", Vector3({r, 0, 0}), "r1"),
                                                        marker("crank", Vector3({r, 0, 0}), "r2"), 5, 0.2, 0.1));

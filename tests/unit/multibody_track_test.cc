@@ -46,7 +46,7 @@ std::shared_ptr<const geometry::Curve> helix(const double R, const double c, con
   auto y = [R, c, w](const geometry::Jet &s) {
     geometry::Jet sn, cs;
     geometry::sin_cos((1.0 / w) * s, sn, cs);
-    return geometry::Jet3{R * cs, R * sn, (c / w) * s};
+    return geometry::Jet3{{R * cs, R * sn, (c / w) * s}};
   };
   return std::make_shared<geometry::Curve>("helix", y, 0.0, 2 * M_PI * turns * w, true);
 }
@@ -58,7 +58,7 @@ std::shared_ptr<const geometry::Curve> line(const Vector3 &a, const Vector3 &b)
   const Vector3 t = (b - a) / L;
   auto y = [a, t](const geometry::Jet &s) {
     using J = geometry::Jet;
-    return geometry::Jet3{J::constant(a[0]) + t[0] * s, J::constant(a[1]) + t[1] * s, J::constant(a[2]) + t[2] * s};
+    return geometry::Jet3{{J::constant(a[0]) + t[0] * s, J::constant(a[1]) + t[1] * s, J::constant(a[2]) + t[2] * s}};
   };
   return std::make_shared<geometry::Curve>("line", y, 0.0, L, true);
 }
@@ -534,7 +534,7 @@ TEST(MultibodyTrack, end_stop_bounces_a_bead_with_restitution_and_then_holds_it)
             << " J, steps to t = 2 s " << b.s_of_t.size() << " rows" << std::endl;
   EXPECT_LT(worst, 1e-6 * s0) << "s(t) against the closed form before the bounces fade (bound 1e-6 of s0)";
   for (const auto &[t, s] : b.s_of_t)
-    if (t > 1.36) ASSERT_NEAR(s, 0.0, 1e-9) << "held at the stop at t = " << t;
+    if (t > 1.36) { ASSERT_NEAR(s, 0.0, 1e-9) << "held at the stop at t = " << t; }
   const System &s = *b.system;
   EXPECT_NEAR(s.impact_losses(), 1.0 * 9.81 * std::sin(alpha) * s0, 1e-6 * 2.4525) << "energy taken by the impacts [J]";
   EXPECT_TRUE(s.is_held(0));

@@ -16,7 +16,7 @@ TEST(RigidBodyInertia, box_matches_the_closed_form)
   // the consistent mass integrates the rigid motions exactly: 1e-10 relative (issue 4).
   const double a = 1.2, b = 0.5, c = 0.3, rho = 7850, m = rho * a * b * c;
   fem::Solid box;
-  box.mesh = fem::generate_box(dealii::Point<3>(a, b, c), {4, 3, 2});
+  box.mesh = fem::generate_box(dealii::Point<3>(a, b, c), {{4, 3, 2}});
   box.material.density = rho;
   const auto I = reduction::rigid_body_inertia(box);
   EXPECT_NEAR(I.mass, m, 1e-10 * m);

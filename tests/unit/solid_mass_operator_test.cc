@@ -55,7 +55,7 @@ TEST(SolidMassOperator, product_equals_the_assembled_supported_mass_matrix_for_e
         {
           largest = std::max(largest, std::abs(assembled[i]));
           difference = std::max(difference, std::abs(assembled[i] - cellwise[i]));
-          if (model.constraints().is_constrained(i)) EXPECT_EQ(cellwise[i], 0.0) << "held dof " << i;
+          if (model.constraints().is_constrained(i)) { EXPECT_EQ(cellwise[i], 0.0) << "held dof " << i; }
         }
       std::cout << "  element " << static_cast<int>(element) << ", " << gauss << "^3 Gauss points, refinement "
                 << refinement << ": max |M x| "
@@ -117,6 +117,8 @@ TEST(SolidModes, releasing_the_matrices_gives_the_modes_of_the_assembled_ones)
       EXPECT_NEAR(modes.shapes[k] * Mphi, 1.0, 1e-10);
       for (std::size_t j = 0; j < reference.shapes.size(); ++j)
         if (std::abs(reference.eigenvalues[j] - modes.eigenvalues[k]) > 0.02 * modes.eigenvalues[k])
-          EXPECT_LT(std::abs(reference.shapes[j] * Mphi), 1e-8) << "modes " << k + 1 << ", " << j + 1;
+          {
+            EXPECT_LT(std::abs(reference.shapes[j] * Mphi), 1e-8) << "modes " << k + 1 << ", " << j + 1;
+          }
     }
 }

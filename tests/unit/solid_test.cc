@@ -160,7 +160,7 @@ TEST(Solid, slender_block_tip_deflection_and_first_frequency_match_beam_theory)
   // the 3D clamp and the load distribution differ from the beam's idealisation.
   const double L = 2, b = 0.1, E = 2.1e11, nu = 0.3, G = E / (2 * (1 + nu)), rho = 7850, P = 1000;
   const double A = b * b, I = b * b * b * b / 12, k = 10 * (1 + nu) / (12 + 11 * nu);
-  auto mesh = std::shared_ptr<const fem::SolidMesh>(fem::generate_box(Point<3>(L, b, b), {40, 2, 2}));
+  auto mesh = std::shared_ptr<const fem::SolidMesh>(fem::generate_box(Point<3>(L, b, b), {{40, 2, 2}}));
   const fem::Solid body = test_support::steel_solid(mesh, "XMIN");
   const fem::SolidModel model(body);
 

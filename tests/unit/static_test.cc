@@ -345,8 +345,8 @@ TEST(SolidStatics, macneal_harder_straight_cantilever_equals_calculix_c3d20_on_t
       for (unsigned int j = 0; j < NY; ++j)
         for (unsigned int k = 0; k < NZ; ++k)
           if (is_node(NX - 1, j, k) && points[d[0]].distance(position(NX - 1, j, k)) < 1e-12)
-            tip_dofs[id(NX - 1, j, k)] = {static_cast<unsigned int>(d[0]), static_cast<unsigned int>(d[1]),
-                                          static_cast<unsigned int>(d[2])};
+            tip_dofs[id(NX - 1, j, k)] = {{static_cast<unsigned int>(d[0]), static_cast<unsigned int>(d[1]),
+                                           static_cast<unsigned int>(d[2])}};
   ASSERT_EQ(tip_dofs.size(), 8u);
   {
     std::ofstream inp(dir + "/mh.inp");
@@ -448,7 +448,10 @@ TEST(SolidStatics, macneal_harder_straight_cantilever_converges_to_the_published
       std::cout << " of published; twist " << st.tip(3) / saint_venant << " of Saint-Venant (" << saint_venant
                 << " rad)\n";
       if (!levels.empty())
-        for (unsigned int c = 0; c < 4; ++c) EXPECT_GT(v[c], levels.back()[c]) << cells << " " << macneal_harder_names[c];
+        for (unsigned int c = 0; c < 4; ++c)
+          {
+            EXPECT_GT(v[c], levels.back()[c]) << cells << " " << macneal_harder_names[c];
+          }
       levels.push_back(v);
     }
   const auto &finest = levels.back();

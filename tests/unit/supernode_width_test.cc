@@ -30,7 +30,7 @@ cholmod_sparse *grid_laplacian(const int m, cholmod_common &common)
       rows[e] = j;
       values[e++] = 7.0;
       const int x = j % m, y = j / m % m, z = j / (m * m);
-      for (const auto [ok, step] : {std::pair{x + 1 < m, 1}, std::pair{y + 1 < m, m}, std::pair{z + 1 < m, m * m}})
+      for (const auto &[ok, step] : {std::pair{x + 1 < m, 1}, std::pair{y + 1 < m, m}, std::pair{z + 1 < m, m * m}})
         if (ok)
           {
             rows[e] = j + step;
