@@ -749,10 +749,12 @@ private:
         boost::property_tree::read_json(c.folder + "/case.json", tree);
         if (tree.get<std::string>("key") != c.key) return false;
         r.status = tree.get<std::string>("status");
-        r.exit_status = tree.get<int>("exit_status");
+        // Numbers through their text: boost's get<int> and get<double> make GCC 12 warn
+        // (-Wmaybe-uninitialized inside boost::optional).
+        r.exit_status = std::stoi(tree.get<std::string>("exit_status"));
         r.message = tree.get<std::string>("message");
-        r.cpu_time_s = tree.get<double>("cpu_time_s");
-        r.wall_time_s = tree.get<double>("wall_time_s");
+        r.cpu_time_s = std::stod(tree.get<std::string>("cpu_time_s"));
+        r.wall_time_s = std::stod(tree.get<std::string>("wall_time_s"));
         // Collected again from the case's results: the study's quantities may have changed.
         r.collected = r.status == "completed" ? io::collect_quantities(study.quantities, c.folder)
                                               : std::vector<std::string>(study.quantities.size());
