@@ -5,14 +5,13 @@
 // error a user can cause into one clear line on stderr and a non-zero exit status:
 //   2 = bad input (file, entry, allowed values), 3 = solver failure, 4 = internal error.
 #include <app/commands.h>
+#include <app/exit_status.h>
 #include <base/names.h>
 #include <io/body_export.h>
 #include <base/input_error.h>
 #include <base/interrupt.h>
 #include <base/mpi_session.h>
-#include <base/solver_error.h>
 
-#include <deal.II/base/exceptions.h>
 
 #include <mpi.h>
 
@@ -294,38 +293,9 @@ int main(int argc, char **argv)
   // item 8). std::cout writes through C's stdout (synchronised, the default).
   std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
   use_one_blas_thread();
-  int status = 0;
-  try
-    {
-      status = dispatch(std::vector<std::string>(argv + 1, argv + argc), &argc, &argv);
-    }
-  catch (const flextrack::InputError &e)
-    {
-      std::cerr << "flextrack: error: " << e.what() << std::endl;
-      status = 2;
-    }
-  catch (const flextrack::base::Interrupted &e)
-    {
-      std::cerr << "flextrack: " << e.what() << std::endl;
-      status = 128 + e.signal(); // as a shell reports a process ended by that signal
-    }
-  catch (const flextrack::SolverError &e)
-    {
-      std::cerr << "flextrack: solver failure: " << e.what() << std::endl;
-      status = 3;
-    }
-  catch (const dealii::ExceptionBase &e)
-    {
-      std::cerr << "flextrack: internal error:";
-      e.print_info(std::cerr);
-      std::cerr << std::endl;
-      status = 4;
-    }
-  catch (const std::exception &e)
-    {
-      std::cerr << "flextrack: internal error: " << e.what() << std::endl;
-      status = 4;
-    }
+  const auto outcome = run_guarded([&] { return dispatch(std::vector<std::string>(argv + 1, argv + argc), &argc, &argv); });
+  if (!outcome.message.empty()) std::cerr << "flextrack: " << outcome.message << std::endl;
+  const int status = outcome.status;
   int started = 0, finished = 0;
   MPI_Initialized(&started);
   MPI_Finalized(&finished);

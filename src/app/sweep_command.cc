@@ -18,13 +18,11 @@
 // entries) is done and is not run again; an interrupted or killed case left none. Bad input in
 // the study or in any case's entries is refused before the first case runs.
 #include <app/commands.h>
+#include <app/exit_status.h>
 #include <base/input_error.h>
 #include <base/interrupt.h>
 #include <base/mpi_session.h>
-#include <base/solver_error.h>
 #include <base/text.h>
-#include <fem/body.h>
-#include <fem/load_case.h>
 #include <io/body_scene.h>
 #include <io/gnuplot.h>
 #include <io/json.h>
@@ -94,45 +92,18 @@ std::string status_of_exit(const int code)
 }
 
 /// Runs case @p c in this process as `flextrack run SCENE -o FOLDER --set ...` would; returns the
-/// exit status and sets @p message to the error line (main.cc's rules).
+/// exit status and sets @p message to the error line (main.cc's, through run_guarded).
 int run_case_here(const io::Study &study, const io::StudyCase &c, std::string &message)
 {
-  try
-    {
-      Options options;
-      options.file = study.scene;
-      options.output_directory = c.folder;
-      options.overrides = c.set;
-      const auto scene = io::SceneFile::read(study.scene, c.set);
-      return run_command(options, scene);
-    }
-  catch (const InputError &e)
-    {
-      message = e.what();
-      return 2;
-    }
-  catch (const base::Interrupted &e)
-    {
-      message = e.what();
-      return 128 + e.signal();
-    }
-  catch (const SolverError &e)
-    {
-      message = e.what();
-      return 3;
-    }
-  catch (const dealii::ExceptionBase &e)
-    {
-      std::ostringstream s;
-      e.print_info(s);
-      message = "internal error: " + base::trim(s.str());
-      return 4;
-    }
-  catch (const std::exception &e)
-    {
-      message = std::string("internal error: ") + e.what();
-      return 4;
-    }
+  const auto outcome = run_guarded([&] {
+    Options options;
+    options.file = study.scene;
+    options.output_directory = c.folder;
+    options.overrides = c.set;
+    return run_command(options, io::SceneFile::read(study.scene, c.set));
+  });
+  message = outcome.message;
+  return outcome.status;
 }
 
 /// Sends this process's output (C and C++, and that of the libraries) to @p file while it lives.
@@ -300,10 +271,7 @@ public:
               const auto body_file = io::SceneFile::read(
                 fs::path(body_scene).is_absolute() ? body_scene : (fs::path(scene.directory) / body_scene).string(), scene.overrides_of(body));
               dealii::ParameterHandler body_prm;
-              io::declare_body_scene(body_prm, fem::Body::parse_arm_list(*body_file.lists));
-              fem::StaticSettings::declare_parameters(body_prm);
-              fem::LoadCase::declare_parameters(body_prm, fem::StaticSettings::parse_load_case_list(*body_file.lists));
-              body_file.parse(body_prm, false);
+              io::parse_body_scene_entries(body_file, body_prm);
             }
         }
       catch (const InputError &e)

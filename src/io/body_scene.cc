@@ -82,17 +82,11 @@ BodyScene read_body_scene(const SceneFile &file)
       if (file.model != "body")
         throw InputError("Model", "'" + file.model + "' scenes are analysed by 'flextrack modes'; "
                                   "'flextrack reduce' needs 'Model = body'");
-      const auto names = fem::Body::parse_arm_list(*file.lists);
       // Pass 2: everything, strictly.
       BodyScene scene;
       scene.file = file.name;
       scene.parameters = std::make_shared<ParameterHandler>();
-      declare_body_scene(*scene.parameters, names);
-      // Load cases are read by 'flextrack static' (app/static_command.cc); declared here too so
-      // that 'reduce' and 'run' accept a body scene that has them (they stay out of the hash).
-      fem::StaticSettings::declare_parameters(*scene.parameters);
-      fem::LoadCase::declare_parameters(*scene.parameters, fem::StaticSettings::parse_load_case_list(*file.lists));
-      file.parse(*scene.parameters, false);
+      parse_body_scene_entries(file, *scene.parameters);
       auto &prm = *scene.parameters;
       scene.body = fem::Body::parse_parameters(prm, file.directory, file.has_subsection("Solid"));
       scene.reduction = reduction::ReductionSettings::parse_parameters(prm);
@@ -104,6 +98,16 @@ BodyScene read_body_scene(const SceneFile &file)
     {
       throw e.file().empty() ? e.in_file(file.name) : e;
     }
+}
+
+void parse_body_scene_entries(const SceneFile &file, ParameterHandler &prm)
+{
+  declare_body_scene(prm, fem::Body::parse_arm_list(*file.lists));
+  // Load cases are read by 'flextrack static' (app/static_command.cc); declared here too so
+  // that 'reduce' and 'run' accept a body scene that has them (they stay out of the hash).
+  fem::StaticSettings::declare_parameters(prm);
+  fem::LoadCase::declare_parameters(prm, fem::StaticSettings::parse_load_case_list(*file.lists));
+  file.parse(prm, false);
 }
 
 void declare_body_scene(ParameterHandler &prm, const std::vector<std::string> &arm_names)

@@ -35,6 +35,10 @@ void declare_body_scene(dealii::ParameterHandler &prm, const std::vector<std::st
 
 /// The body scene of @p scene (which must have "Model = body"). Throws InputError.
 BodyScene read_body_scene(const SceneFile &scene);
+/// Pass 2 of a body scene alone: declares every entry @p file may hold (the body, reduction,
+/// output, static settings and load cases) in @p prm and parses the file strictly; InputError for
+/// an undeclared entry or a value its pattern refuses. Builds nothing (no curve, no mesh).
+void parse_body_scene_entries(const SceneFile &file, dealii::ParameterHandler &prm);
 BodyScene read_body_scene(const std::string &file);
 /// Same, from parameter text (tests); @p directory resolves relative file names.
 BodyScene read_body_scene_from_string(const std::string &text, const std::string &directory = ".");

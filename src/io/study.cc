@@ -495,8 +495,11 @@ std::vector<std::string> collect_quantities(const std::vector<Quantity> &quantit
     }
   catch (const boost::property_tree::json_parser_error &)
     {}
-  std::map<std::string, NumericTable> tables;
-  for (const char *name : {"probes.csv", "deviation.csv", "monitors.csv"}) tables[name].read(folder + "/" + name);
+  std::map<std::string, NumericTable> tables; // read when a quantity first needs them
+  const auto table = [&](const std::string &name) -> const NumericTable & {
+    if (tables.find(name) == tables.end()) tables[name].read(folder + "/" + name);
+    return tables[name];
+  };
   std::vector<std::string> values;
   for (const auto &q : quantities)
     {
@@ -505,9 +508,9 @@ std::vector<std::string> collect_quantities(const std::vector<Quantity> &quantit
         value = summary_value(summary, q.path);
       else if (q.kind == Quantity::Kind::column)
         for (const char *name : {"probes.csv", "deviation.csv", "monitors.csv"})
-          if (const int c = tables[name].column(q.path); c >= 0)
+          if (const int c = table(name).column(q.path); c >= 0)
             {
-              value = statistic_of(tables[name], c, q.statistic);
+              value = statistic_of(table(name), c, q.statistic);
               break;
             }
       values.push_back(value);
