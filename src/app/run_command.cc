@@ -216,6 +216,15 @@ int run_command(const Options &options, const io::SceneFile &file)
   const std::string chosen = multibody::choose_automatic_settings(system, integrator_settings);
   if (!chosen.empty() && settings.integrator.method == multibody::IntegrationMethod::ida)
     std::cout << "  integrator (chosen for this scene): " << chosen << "\n";
+  // Yardsticks of the residual maxima reported at the end (issue 25, item 12): what the
+  // integrator was asked to hold, atol + rtol x the largest position coordinate at the start, and
+  // the velocity tolerance of the frames and joints.
+  double largest_coordinate = 0;
+  for (unsigned int i = 0; i < system.n_q(); ++i) largest_coordinate = std::max(largest_coordinate, std::abs(y[i]));
+  const double position_yardstick =
+    integrator_settings.absolute_tolerance + integrator_settings.relative_tolerance * largest_coordinate;
+  const double velocity_yardstick = integrator_settings.velocity_tolerance > 0 ? integrator_settings.velocity_tolerance
+                                                                               : integrator_settings.absolute_tolerance;
   const auto owned_integrator = multibody::make_integrator(system, integrator_settings);
   auto &integrator = *owned_integrator;
   multibody::Monitors monitors(system);
@@ -234,7 +243,14 @@ int run_command(const Options &options, const io::SceneFile &file)
     animation->add_frame(time, state, out);
     while (next_frame <= time + 1e-9 * scene.animation_interval) next_frame += scene.animation_interval;
   };
-  if (scene.animation_interval > 0) animation = std::make_unique<io::AnimationWriter>(system);
+  if (scene.animation_interval > 0)
+    {
+      animation = std::make_unique<io::AnimationWriter>(system);
+      std::cout << "  animation every " << scene.animation_interval << " s (cell data 'body' numbers the bodies; "
+                << "point-like bodies drawn at least " << std::setprecision(3) << animation->smallest_side()
+                << " m wide):\n"
+                << animation->description();
+    }
   animate(settings.start_time, y);
 
   ProgressReport progress(settings.start_time, settings.end_time);
@@ -275,13 +291,22 @@ int run_command(const Options &options, const io::SceneFile &file)
     recorder.finish();
     if (animation) animation->finish(out);
     if (deviation) out.will_add("deviation.png");
+    if (scene.plots)
+      {
+        std::vector<std::string> probe_names;
+        for (const auto &p : scene.probes) probe_names.push_back(p->name());
+        out.add_text("run.gp", io::run_plot_script("flextrack run " + options.file, probe_names));
+        out.will_add("run.png");
+      }
     out.add_parameters(*scene.parameters);
     if (deviation) deviation->write(out);
   }
   {
     io::JsonObject drift;
     drift.add("position_residual", recorder.max_position_residual)
+      .add("position_residual_yardstick", position_yardstick)
       .add("velocity_residual", recorder.max_velocity_residual)
+      .add("velocity_residual_yardstick", velocity_yardstick)
       .add("euler_parameter_normalisation", recorder.max_normalisation_drift)
       .add("relative_energy_balance_error", recorder.max_balance_error);
     io::JsonObject summary;
@@ -327,20 +352,25 @@ int run_command(const Options &options, const io::SceneFile &file)
   }
   out.commit();
   // gnuplot runs in the output folder from an argument vector: no shell sees the folder's name.
-  bool plotted = false;
-  if (deviation && io::is_first_process())
-    {
-      const io::PlotResult plot = io::draw_png(out.path(), "deviation.gp", "deviation.png");
-      plotted = plot.drawn;
-      if (!plot.drawn) std::cout << "  warning: no deviation.png: " << plot.problem << " (deviation.gp draws it)\n";
-    }
+  std::string plots; // the PNGs drawn, for the list of results
+  for (const auto &[wanted, name] : {std::make_pair(deviation.has_value(), std::string("deviation")),
+                                     std::make_pair(scene.plots, std::string("run"))})
+    if (wanted && io::is_first_process())
+      {
+        const io::PlotResult plot = io::draw_png(out.path(), name + ".gp", name + ".png");
+        if (plot.drawn) plots += ", " + name + ".png";
+        else std::cout << "  warning: no " << name << ".png: " << plot.problem << " (" << name << ".gp draws it)\n";
+      }
 
   const auto stats = integrator.statistics();
   std::cout << "  " << stats.steps << " steps (" << stats.error_test_failures << " rejected by the error test, "
             << stats.nonlinear_convergence_failures << " by Newton), " << stats.residual_evaluations << " residuals, "
-            << stats.jacobian_evaluations << " Jacobians; max |Phi| " << std::setprecision(3)
-            << recorder.max_position_residual << ", max ||p|-1| " << recorder.max_normalisation_drift
-            << ", energy balance " << recorder.max_balance_error << "\n";
+            << stats.jacobian_evaluations << " Jacobians\n  largest over the output rows: |Phi| " << std::setprecision(3)
+            << recorder.max_position_residual << " m or rad (position tolerance " << position_yardstick
+            << " m = atol + rtol x largest coordinate), |dPhi/dt| " << recorder.max_velocity_residual
+            << " m/s or rad/s (velocity tolerance " << velocity_yardstick << "), ||p|-1| "
+            << recorder.max_normalisation_drift << ", energy balance error " << recorder.max_balance_error
+            << " of the energy scale (largest |kinetic| or |potential| energy so far)\n";
   print_timings(clock);
   const std::string rows_kept = ". The " + std::to_string(recorder.n_rows()) + " output rows up to t = " +
                                 std::to_string(recorder.last_time()) + " s are in " + out.path() + "/";
@@ -349,7 +379,7 @@ int run_command(const Options &options, const io::SceneFile &file)
   std::cout << "  results in " << out.path() << "/ (" << (scene.probes.empty() ? "" : "probes.csv, ")
             << "monitors.csv, results.h5, summary.json, parameters_used.prm"
             << (animation ? ", animation.pvd" : "") << (deviation ? ", deviation.csv" : "")
-            << (plotted ? ", deviation.png" : "") << ")" << std::endl;
+            << plots << ")" << std::endl;
   return 0;
 }
 } // namespace flextrack::app

@@ -97,6 +97,8 @@ public:
   const CurvedBeamModel &arm_model(unsigned int a) const { return *arm_models[a]; }
   unsigned int arm_offset(unsigned int a) const { return arm_offsets[a]; }
   const std::string &arm_name(unsigned int a) const { return description.arm_names[a]; }
+  /// The body this model was built from (its arms' sections, point masses, ...).
+  const Body &body() const { return description; }
 
 private:
   struct Entry

@@ -61,6 +61,22 @@ CrossSection CrossSection::rectangle(const double w, const double h, const doubl
   return s;
 }
 
+std::vector<std::array<double, 2>> CrossSection::outline() const
+{
+  std::vector<std::array<double, 2>> corners;
+  if (shape == "circle" || shape == "tube")
+    {
+      constexpr unsigned int sides = 16; // round enough for a picture, 16 points per ring of a tube
+      for (unsigned int k = 0; k < sides; ++k)
+        corners.push_back({{0.5 * size * std::cos(2 * M_PI * k / sides), 0.5 * size * std::sin(2 * M_PI * k / sides)}});
+      return corners;
+    }
+  const double w = area > 0 ? std::sqrt(12 * inertia_z / area) : 0, h = area > 0 ? std::sqrt(12 * inertia_y / area) : 0;
+  for (const auto &[y, z] : {std::array<double, 2>{{0.5, -0.5}}, {{0.5, 0.5}}, {{-0.5, 0.5}}, {{-0.5, -0.5}}})
+    corners.push_back({{y * w, z * h}});
+  return corners;
+}
+
 namespace
 {
 // Ranges of the section entries. The bounds are sanity limits, far beyond any beam section (from

@@ -3,7 +3,9 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <array>
 #include <string>
+#include <vector>
 
 namespace flextrack::fem
 {
@@ -26,6 +28,12 @@ struct CrossSection
   /// Saint-Venant torsion constant of a solid rectangle (Timoshenko & Goodier, Theory of
   /// Elasticity, 3rd ed., sec. 109): J = a b^3 [1/3 - 64 b / (pi^5 a) sum tanh(n pi a / 2b) / n^5].
   static double rectangle_torsion_constant(double width, double height);
+
+  /// The section's outline for drawing, as (y, z) corners [m] counter-clockwise in the section
+  /// axes: a 16-gon of the outer diameter (circle, tube); the rectangle of equal area and second
+  /// moments, w = sqrt(12 Iz / A), h = sqrt(12 Iy / A) (rectangle: its own; explicit: the
+  /// equivalent rectangle, as a picture of its size and aspect).
+  std::vector<std::array<double, 2>> outline() const;
 
   static void declare_parameters(dealii::ParameterHandler &prm);
   static CrossSection parse_parameters(dealii::ParameterHandler &prm, const std::string &section, double nu);

@@ -95,6 +95,42 @@ std::string deviation_plot_script(const std::vector<std::string> &names)
   return gp.str();
 }
 
+std::string run_plot_script(const std::string &title, const std::vector<std::string> &names)
+{
+  // Columns: probes.csv time, then 6 per probe (x, y, z, vx, vy, vz); monitors.csv (io/run_results.cc)
+  // 1 time, 2 position residual, 3 velocity residual, 4 ||p|-1|, 5 kinetic, 6 gravity, 7 strain,
+  // 8 spring energy, 9 work of applied loads, 10 work of drivers, 11 dissipated, 12 balance error.
+  std::ostringstream gp;
+  gp << "# gnuplot script written by flextrack run: run.png (Output/Plots)\n"
+     << png_preamble("run.png", "1200,900") << "set datafile separator ','\nset grid\nset key top left opaque\n"
+     << "on_log(x) = abs(x) > 1e-16 ? abs(x) : 1e-16\n"
+     << "set multiplot layout 2,2 title " << gnuplot_string(title) << "\nset xlabel 'time [s]'\n";
+  if (names.empty())
+    gp << "set title 'no probes (Multibody/Probes)'\nunset key\nplot 'monitors.csv' using 1:(0) with lines lt 0 "
+          "notitle\nset key top left\n";
+  else
+    {
+      gp << "set title 'probes'\nset ylabel 'coordinate [m]'\nplot ";
+      const char *axis[3] = {"x", "y", "z"};
+      for (std::size_t p = 0; p < names.size(); ++p)
+        for (unsigned int d = 0; d < 3; ++d)
+          gp << (p + d ? ", " : "") << "'probes.csv' using 1:" << 2 + 6 * p + d << " with lines lw 2 title "
+             << gnuplot_string(names[p] + " " + axis[d]);
+      gp << "\n";
+    }
+  gp << "set title 'energy'\nset ylabel 'energy, work [J]'\nplot 'monitors.csv' using 1:5 with lines lw 2 title "
+        "'kinetic', '' using 1:6 with lines lw 2 title 'gravity', '' using 1:7 with lines lw 2 title 'strain', '' "
+        "using 1:($9+$10) with lines lw 2 title 'work of loads and drivers', '' using 1:11 with lines lw 2 title "
+        "'dissipated'\n"
+     << "set logscale y\nset format y '%.0e'\nset title 'energy balance error (of the energy scale)'\n"
+        "set ylabel 'error [-]'\nplot 'monitors.csv' using 1:(on_log($12)) with lines lw 2 notitle\n"
+     << "set title 'constraint residuals'\nset ylabel 'residual [m, m/s, -]'\nplot 'monitors.csv' using "
+        "1:(on_log($2)) with lines lw 2 title '|Phi| [m or rad]', '' using 1:(on_log($3)) with lines lw 2 title "
+        "'|dPhi/dt| [m/s or rad/s]', '' using 1:(on_log($4)) with lines lw 2 title '||p| - 1| [-]'\n"
+     << "unset multiplot\n";
+  return gp.str();
+}
+
 std::string sweep_plot_script(const std::string &title, const std::vector<std::string> &parameters,
                               const std::vector<std::string> &quantities)
 {

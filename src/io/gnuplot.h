@@ -3,7 +3,7 @@
 //    probe and body names) that goes into a gnuplot script. Every script below takes its text
 //    through it; nothing else writes text into a .gp file.
 //  - The scripts FlexTrack writes: convergence.gp (converge), bench.gp (bench), deviation.gp
-//    (run with a rigid reference). Each is a pure function of its fields, so a test can feed
+//    (run with a rigid reference), run.gp (every run). Each is a pure function of its fields, so a test can feed
 //    hostile text through every field of every script (tests/unit/gnuplot_test.cc).
 //  - draw_png(): runs gnuplot on a script in the output folder (argument vector, no shell) with
 //    the PNG written under a temporary name, checked to be a complete PNG (a full disk leaves a
@@ -35,6 +35,12 @@ std::string bench_plot_script(const std::string &title, unsigned int n_probes);
 /// deviation.gp: the paths of the run and of its rigid reference in the x-y plane and the
 /// deviation against time, one line per probe of @p probe_names (probes.csv, deviation.csv).
 std::string deviation_plot_script(const std::vector<std::string> &probe_names);
+
+/// run.gp: the run at a glance, from probes.csv (if @p probe_names is not empty) and
+/// monitors.csv: the probes' x, y, z against time; kinetic, gravity and strain energy and the
+/// work of drivers and loads; the energy balance error; the constraint residuals (log scales,
+/// values below 1e-16 drawn at 1e-16). Titled @p title (the scene).
+std::string run_plot_script(const std::string &title, const std::vector<std::string> &probe_names);
 
 /// sweep.gp: from sweep.csv (case, the parameters, the quantities), the first four quantities
 /// against the one parameter of @p parameters, one panel each; or, over two parameters, the

@@ -319,6 +319,10 @@ void declare_multibody_scene(ParameterHandler &prm, const SceneNames &names)
   prm.declare_entry("Animation interval", "0", Patterns::Double(0),
                     "Time between the frames of the VTU/PVD animation (animation.pvd, one animation_NNNNN.vtu "
                     "per frame, taken at the output rows) [s]; 0: no animation.");
+  prm.declare_entry("Plots", "true", Patterns::Bool(),
+                    "Draw run.png after a run with gnuplot (run.gp, from probes.csv and monitors.csv): the probes' "
+                    "coordinates [m], the energies [J], the energy balance error [-] and the constraint residuals "
+                    "[m, m/s] against time [s]; false: none (a study's cases, where sweep.png is the picture).");
   prm.declare_entry("Maximum results size", "2", Patterns::Double(0),
                     "Largest estimated size of a run's results on disk (results.h5 and the CSV files, all written "
                     "as the run goes) [GiB], 0.001 to 1000; a scene whose output rows need more is refused before the "
@@ -362,6 +366,7 @@ MultibodyScene read_multibody_scene(const SceneFile &file, std::ostream &log, de
       prm.enter_subsection("Output");
       scene.output_directory = base::trim(prm.get("Directory"));
       scene.animation_interval = prm.get_double("Animation interval");
+      scene.plots = prm.get_bool("Plots");
       scene.max_results_gib = prm.get_double("Maximum results size");
       if (!(scene.max_results_gib >= 1e-3 && scene.max_results_gib <= 1e3))
         throw InputError("Output/Maximum results size", "must be from 0.001 to 1000 GiB");

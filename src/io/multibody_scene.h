@@ -39,6 +39,7 @@ struct MultibodyScene
   std::vector<std::string> notes;
   std::string output_directory; ///< Output/Directory (empty: the default rule of OutputFolder)
   double animation_interval = 0; ///< Output/Animation interval [s]; 0: no animation
+  bool plots = true;             ///< Output/Plots: run.png
   double max_results_gib = 2;     ///< Output/Maximum results size [GiB]
   /// The parameters as read (parameters_used.prm, summary.json).
   std::shared_ptr<dealii::ParameterHandler> parameters;

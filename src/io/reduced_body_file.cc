@@ -125,6 +125,9 @@ void write_file(const ReducedBody &b, const std::string &name)
       f.write(g + "/positions", {nodes, 3}, arm.positions.data());
       f.write(g + "/modes", {nodes, n, 6}, arm.values.data());
       if (!arm.geometry_parameters.empty()) f.write_text(g + "/geometry_parameters", arm.geometry_parameters);
+      std::vector<double> outline;
+      for (const auto &[y, z] : arm.section_outline) outline.insert(outline.end(), {y, z});
+      f.write(g + "/section_outline", {arm.section_outline.size(), 2}, outline.data());
     }
 
   f.create_group("/drawing");
@@ -138,6 +141,11 @@ void write_file(const ReducedBody &b, const std::string &name)
   f.write("/drawing/quads", {b.quads.size(), 8}, quads.data());
   f.write("/drawing/lines", {b.lines.size(), 2}, lines.data());
   f.write("/drawing/mode_displacements", {n, P_count, 3}, b.point_modes.data());
+  std::vector<unsigned int> mass_interfaces;
+  std::vector<double> masses;
+  for (const auto &[i, m] : b.point_masses) mass_interfaces.push_back(i), masses.push_back(m);
+  f.write("/drawing/point_mass_interfaces", {masses.size()}, mass_interfaces.data());
+  f.write("/drawing/point_masses", {masses.size()}, masses.data());
   f.close();
 }
 
@@ -283,6 +291,16 @@ ReadBody read_file(const std::string &name, const bool rebuild_geometry = true)
           {
             throw std::runtime_error("arm '" + name + "': " + e.what());
           }
+      const auto outline_shape = f.shape(g + "/section_outline");
+      if (outline_shape.size() != 2 || outline_shape[1] != 2 || outline_shape[0] < 3 || outline_shape[0] > 64)
+        throw std::runtime_error("arm '" + name + "': dataset 'section_outline' is not K x 2 with 3 <= K <= 64");
+      const auto outline = f.read_doubles(g + "/section_outline", outline_shape);
+      for (hsize_t k = 0; k < outline_shape[0]; ++k)
+        {
+          if (!(std::abs(outline[2 * k]) <= 1e3 && std::abs(outline[2 * k + 1]) <= 1e3))
+            throw std::runtime_error("arm '" + name + "': 'section_outline' holds a corner beyond 1000 m or not a number");
+          arm.section_outline.push_back({{outline[2 * k], outline[2 * k + 1]}});
+        }
       b.arms.push_back(std::move(arm));
     }
 
@@ -309,6 +327,18 @@ ReadBody read_file(const std::string &name, const bool rebuild_geometry = true)
       b.lines.push_back({{lines[2 * i], lines[2 * i + 1]}});
     }
   b.point_modes = f.read_doubles("/drawing/mode_displacements", {n, P_count, 3});
+  const auto masses_shape = f.shape("/drawing/point_masses");
+  if (masses_shape.size() != 1) throw std::runtime_error("dataset '/drawing/point_masses' is not a list");
+  const auto mass_interfaces = f.read_unsigned("/drawing/point_mass_interfaces", masses_shape);
+  const auto masses = f.read_doubles("/drawing/point_masses", masses_shape);
+  for (hsize_t i = 0; i < masses_shape[0]; ++i)
+    {
+      if (mass_interfaces[i] >= b.interfaces.size())
+        throw std::runtime_error("'/drawing/point_mass_interfaces' refers to a missing interface");
+      if (!(masses[i] > 0 && masses[i] < 1e12))
+        throw std::runtime_error("'/drawing/point_masses' holds a mass that is not in (0, 1e12) kg");
+      b.point_masses.emplace_back(mass_interfaces[i], masses[i]);
+    }
   result.computed_checksum = f.computed_checksum();
   return result;
 }

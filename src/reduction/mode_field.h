@@ -18,6 +18,7 @@
 #include <geometry/curve.h>
 #include <geometry/section_frame.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,9 @@ struct ArmModeData
   /// The arm's curve and section-frame parameters as parameter-file text (what rebuilds curve and
   /// frame when the reduced body is read from its file).
   std::string geometry_parameters;
+  /// The cross-section's outline for drawing: (y, z) corners [m] in the section axes (section
+  /// frame y axis, tangent x y axis), counter-clockwise (fem::CrossSection::outline).
+  std::vector<std::array<double, 2>> section_outline;
   unsigned int n_cells() const { return cell_s.size() - 1; }
   double length() const { return cell_s.back(); }
 };

@@ -47,6 +47,8 @@ struct ReducedBody
   std::vector<std::array<unsigned int, 8>> quads; ///< quadratic quads, VTK order (corners, then mid-sides)
   std::vector<std::array<unsigned int, 2>> lines; ///< arm centre-line segments
   std::vector<double> point_modes;                ///< (k P + i) 3 + d, P = points.size()
+  /// Point masses, drawn as cubes at their interface: (index in interfaces, mass [kg]).
+  std::vector<std::pair<unsigned int, double>> point_masses;
 
   unsigned int n_modes() const { return stiffness.m(); }
 };

@@ -21,6 +21,7 @@ void set_arm_geometry(const fem::Arm &arm, ArmModeData &d)
   d.curve = arm.curve;
   d.frame = arm.frame;
   d.geometry_parameters = arm.geometry_parameters;
+  d.section_outline = arm.section.outline();
   if (d.geometry_parameters.empty()) return; // an arm built in code: the file will not know its curve
   try
     {
@@ -121,6 +122,9 @@ ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &b
       r.output_points.push_back(o);
     }
   for (unsigned int a = 0; a < model.n_arms(); ++a) r.arms.push_back(arm_mode_data(model, a, full));
+  for (const auto &m : model.body().point_masses)
+    for (unsigned int i = 0; i < r.interfaces.size(); ++i)
+      if (r.interfaces[i].name == m.interface) r.point_masses.emplace_back(i, m.mass);
 
   // Drawing: the solid's boundary faces as quadratic quads (linear elements repeat corners at
   // the mid-sides), the arms' centre lines as segments between nodes.

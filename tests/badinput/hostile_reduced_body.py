@@ -190,7 +190,7 @@ checksum_cases = {
                         "content_checksum 0123456789abcdef, its contents sum to"),
     "checksum_missing": (lambda f: f.attrs.__delitem__("content_checksum"), "no valid content checksum"),
     "format_version_2": (lambda f: replace_attribute(f, "/", "format_version", np.int64(2)),
-                         "format version 2 is not supported \\(this FlexTrack reads 3\\); reduce the body again"),
+                         "format version 2 is not supported \\(this FlexTrack reads 4\\); reduce the body again"),
 }
 cases.update(checksum_cases)
 # Read as a multibody scene's 'Reduced body file' too (each run costs a start of flextrack).

@@ -10,7 +10,7 @@ import numpy as np
 body, vtu = sys.argv[1], sys.argv[2]
 with h5py.File(body, "r") as f:
     assert f.attrs["format"] == b"FlexTrack reduced body", f.attrs["format"]
-    assert int(f.attrs["format_version"]) == 3
+    assert int(f.attrs["format_version"]) == 4
     # Version 3: a content checksum (its definition is checked in tests/badinput/hostile_reduced_body.py).
     checksum = f.attrs["content_checksum"].decode()
     assert len(checksum) == 16 and int(checksum, 16) >= 0, checksum

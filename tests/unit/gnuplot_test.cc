@@ -55,6 +55,9 @@ fs::path data_folder(const std::string &name)
                                       << "generalized_alpha,step 0.01 s,0.01,completed,0.02,0.002,0.05\n"
                                       << "generalized_alpha,step 0.005 s,0.005,completed,0.005,0.0005,0.09\n";
   std::ofstream(folder / "probes.csv") << "time_s,a_x,a_y,a_z,a_vx,a_vy,a_vz\n0,1,0,0,0,1,0\n0.5,0.9,0.4,0,0,1,0\n1,0.5,0.8,0,0,1,0\n";
+  std::ofstream(folder / "monitors.csv") << "time_s,pr,vr,nd,ke,ge,se,sp,wa,wd,di,eb\n"
+                                         << "0,0,0,0,0,1,0,0,0,0,0,0\n0.5,1e-9,1e-7,1e-12,0.5,0.5,0,0,0,0,0,1e-8\n"
+                                         << "1,2e-9,1e-6,0,0.1,0.9,0,0,0,0,0,2e-8\n";
   std::ofstream(folder / "deviation.csv") << "time_s,a_rigid_x_m,a_rigid_y_m,a_rigid_z_m,a_deviation_m\n"
                                           << "0,1,0,0,0\n0.5,0.9,0.41,0,0.001\n1,0.5,0.81,0,0.002\n";
   return folder;
@@ -127,6 +130,8 @@ TEST(Gnuplot, EveryScriptWithHostileTextRunsNoCommand)
                       "bench.png");
       // Probe names follow base::name_rule() today; the script does not rely on it.
       expect_harmless("deviation_" + tag, "deviation.gp", flextrack::io::deviation_plot_script({text}), "deviation.png");
+      expect_harmless("run_" + tag, "run.gp", flextrack::io::run_plot_script("flextrack run " + text, {text}), "run.png");
+      expect_harmless("run_no_probes_" + tag, "run.gp", flextrack::io::run_plot_script(text, {}), "run.png");
     }
 }
 
@@ -163,7 +168,7 @@ TEST(Gnuplot, FailedScriptLeavesNoPng)
   EXPECT_FALSE(fs::exists(folder / "bench.png"));
   unsigned int files = 0;
   for ([[maybe_unused]] const auto &entry : fs::directory_iterator(folder)) ++files;
-  EXPECT_EQ(files, 5u); // the four data files and bad.gp
+  EXPECT_EQ(files, 6u); // the five data files and bad.gp
   fs::remove_all(folder);
 }
 
