@@ -54,24 +54,26 @@ int linearize_command(const Options &options, const io::SceneFile &file)
   }
   std::cout << "\n  linearised at t = " << t0 << " s: " << modes.size() << " modes\n"
             << "  mode   frequency [Hz]    damping ratio [-]   eigenvalue [1/s]\n";
-  // A zero eigenvalue (a neutral motion: a slider free along a level track) comes out of the
-  // eigen solver as round-off of the size of the largest |s| times about 1e-11; judged against its
-  // own |s| it was called UNSTABLE (Re s = 4e-6 among modes up to 1e5 1/s, issue 25, item 4).
-  double largest = 1.0;
-  for (const auto &m : modes) largest = std::max(largest, std::abs(m.eigenvalue));
-  const double round_off = 1e-10 * largest;
-  unsigned int unstable = 0;
+  // One verdict for this table and for the static equilibrium of 'run' (multibody/linearization.h:
+  // round-off on a zero eigenvalue is not called UNSTABLE).
+  const multibody::StabilityVerdict verdict = multibody::classify_stability(modes);
   for (unsigned int k = 0; k < modes.size(); ++k)
     {
       const auto &m = modes[k];
-      const bool grows = m.eigenvalue.real() > std::max(round_off, 1e-9 * std::abs(m.eigenvalue));
-      unstable += grows;
       std::cout << "  " << std::setw(4) << k + 1 << "  " << std::setw(16) << std::setprecision(10) << m.frequency_hz
                 << "  " << std::setw(17) << std::setprecision(6) << m.damping_ratio << "   " << std::setprecision(6)
                 << m.eigenvalue.real() << (m.eigenvalue.imag() < 0 ? " - " : " + ") << std::abs(m.eigenvalue.imag())
-                << " i" << (grows ? "   UNSTABLE" : "") << "\n";
+                << " i" << (verdict.grows[k] ? "   UNSTABLE" : "") << "\n";
     }
-  if (unstable) std::cout << "  " << unstable << " mode(s) with Re s > 0: the state is unstable\n";
+  if (verdict.unstable_modes)
+    std::cout << "  " << verdict.unstable_modes << " mode(s) with Re s > 0: the state is unstable (fastest growth "
+              << std::setprecision(9) << verdict.largest_growth_rate << " 1/s)\n";
+  // Linearising about a state that is not an equilibrium (v' != 0) is allowed but said (issue 25,
+  // item 4): a steady motion has v' = 0 too, a pendulum held at 30 degrees does not.
+  std::vector<std::string> notes = scene.notes;
+  const multibody::EquilibriumCheck balance = multibody::check_equilibrium(system, t0, y, yp);
+  if (!balance.is_equilibrium()) notes.push_back(balance.note());
+  for (const auto &n : notes) std::cout << "  note: " << n << "\n";
 
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output_directory, options.file));
   out.tidy_previous_run("linearize");
@@ -91,7 +93,16 @@ int linearize_command(const Options &options, const io::SceneFile &file)
     .add("time_s", t0)
     .add("modes", static_cast<unsigned int>(modes.size()))
     .add("frequencies_Hz", frequencies)
-    .add("unstable_modes", unstable)
+    .add("unstable_modes", verdict.unstable_modes)
+    .add("largest_growth_rate_per_s", verdict.largest_growth_rate);
+  io::JsonObject state;
+  state.add("imbalance", balance.imbalance).add("tolerance", multibody::EquilibriumCheck::tolerance)
+    .raw("is_equilibrium", balance.is_equilibrium() ? "true" : "false");
+  if (!balance.name.empty())
+    state.add("largest_acceleration_component", balance.name).add("largest_acceleration", balance.acceleration)
+      .add("largest_acceleration_unit", balance.unit);
+  summary.add("equilibrium_check", state)
+    .add("notes", notes)
     .add("total_wall_time_s", clock.total_for_summary())
     .raw("parameters", io::parameters_as_json(*scene.parameters));
   out.add_summary(summary);

@@ -6,6 +6,10 @@
 #include <deal.II/lac/lapack_templates.h>
 
 #include <algorithm>
+#include <limits>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
 
 namespace flextrack::multibody
 {
@@ -31,8 +35,9 @@ Vector<double> equations_of_motion(const System &s, const double t, const Vector
   return R;
 }
 
-/// Orthonormal basis (columns) of the null space of B (n_v x n_f).
-FullMatrix<double> null_space(const FullMatrix<double> &B, const unsigned int n)
+} // namespace
+
+FullMatrix<double> constraint_null_space(const FullMatrix<double> &B, const unsigned int n)
 {
   if (B.m() == 0)
     {
@@ -55,8 +60,6 @@ FullMatrix<double> null_space(const FullMatrix<double> &B, const unsigned int n)
     for (unsigned int i = 0; i < n; ++i) N(i, c) = Vt(free[c], i);
   return N;
 }
-} // namespace
-
 std::vector<LinearMode> linearize(System &system, const double t, const Vector<double> &y_in)
 {
   const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda();
@@ -86,7 +89,7 @@ std::vector<LinearMode> linearize(System &system, const double t, const Vector<d
           C(r, c) = (cp[r] - cm[r]) / (2 * h);
         }
     }
-  const FullMatrix<double> N = null_space(B, nv);
+  const FullMatrix<double> N = constraint_null_space(B, nv);
   const unsigned int nf = N.n();
   if (nf == 0) return {};
   FullMatrix<double> Mr(nf, nf), Kr(nf, nf), Cr(nf, nf);
@@ -149,5 +152,68 @@ std::vector<LinearMode> linearize(System &system, const double t, const Vector<d
     }
   std::sort(modes.begin(), modes.end(), [](const LinearMode &a, const LinearMode &b) { return a.frequency_hz < b.frequency_hz; });
   return modes;
+}
+
+StabilityVerdict classify_stability(const std::vector<LinearMode> &modes)
+{
+  StabilityVerdict v;
+  double largest = 1.0;
+  for (const auto &m : modes) largest = std::max(largest, std::abs(m.eigenvalue));
+  v.round_off = 1e-10 * largest;
+  for (const auto &m : modes)
+    {
+      const bool grows = m.eigenvalue.real() > std::max(v.round_off, 1e-9 * std::abs(m.eigenvalue));
+      v.grows.push_back(grows);
+      if (!grows) continue;
+      v.largest_growth_rate = v.unstable_modes ? std::max(v.largest_growth_rate, m.eigenvalue.real()) : m.eigenvalue.real();
+      ++v.unstable_modes;
+    }
+  return v;
+}
+
+EquilibriumCheck check_equilibrium(const System &system, const double t, const Vector<double> &y, const Vector<double> &yp)
+{
+  const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda();
+  FullMatrix<double> M, B;
+  Vector<double> Q, phi, phi_t, reaction(nv);
+  system.mass_matrix(y, M);
+  system.generalized_forces(t, y, Q);
+  system.constraints(t, y, false, phi, B, phi_t);
+  if (nl)
+    {
+      Vector<double> lambda(nl);
+      for (unsigned int r = 0; r < nl; ++r) lambda[r] = y[nq + nv + r];
+      B.Tvmult(reaction, lambda);
+    }
+  EquilibriumCheck c;
+  double force_scale = 0, largest = -1;
+  for (unsigned int i = 0; i < nv; ++i)
+    {
+      if (!(M(i, i) > 0)) continue; // a joint's own coordinate: no mass, v' does not appear
+      const double w = std::sqrt(M(i, i));
+      force_scale = std::max(force_scale, std::max(std::abs(Q[i]), std::abs(reaction[i])) / w);
+      const double a = w * std::abs(yp[nq + i]);
+      if (a > largest) largest = a, c.component = nq + i, c.acceleration = yp[nq + i];
+    }
+  if (largest <= 0) return c; // at rest with nothing acting, or no mass at all
+  c.imbalance = force_scale > 0 ? largest / force_scale : std::numeric_limits<double>::infinity();
+  c.name = system.component_name(c.component);
+  c.unit = "1/s^2 (modal)"; // a flexible body's modal coordinate, unless a frame's below
+  const unsigned int i = c.component - nq;
+  for (unsigned int b = 1; b < system.n_bodies(); ++b)
+    if (i >= system.v_offset(b) && i < system.v_offset(b) + std::min(6u, system.body(b).n_v()))
+      c.unit = i - system.v_offset(b) < 3 ? "m/s^2" : "rad/s^2";
+  return c;
+}
+
+std::string EquilibriumCheck::note() const
+{
+  std::ostringstream s;
+  s << std::setprecision(3) << "the state linearised about is not an equilibrium or a steady motion: the largest "
+    << "acceleration is d/dt '" << name << "' = " << acceleration << " " << unit << " (unbalanced: " << imbalance
+    << " of the largest force acting, mass-weighted; an equilibrium leaves at most " << tolerance
+    << "). The eigenvalues describe the motion near this instant only; for those of the equilibrium set "
+       "'Multibody/Initial state = static equilibrium' or start at rest where the loads balance";
+  return s.str();
 }
 } // namespace flextrack::multibody

@@ -1,5 +1,7 @@
 // Static equilibrium by a damped Newton iteration (static_equilibrium.h).
 #include <base/input_error.h>
+#include <multibody/linearization.h>
+#include <multibody/redundancy.h>
 #include <multibody/static_equilibrium.h>
 
 #include <deal.II/lac/full_matrix.h>
@@ -89,51 +91,150 @@ std::vector<EquilibriumMove> moves(const System &system, const Vector<double> &y
   return m;
 }
 
-/// Smallest eigenvalue of the symmetric part of K_T on the null space of B (B: nl x nv).
-double smallest_constrained_stiffness(const FullMatrix<double> &K, const FullMatrix<double> &B)
+/// The augmented matrix J = [K B^T; B 0] equilibrated (rows, then columns, by their largest
+/// entries) and its SVD.
+struct ScaledMatrix
+{
+  Vector<double> row_scale, col_scale;
+  LAPACKFullMatrix<double> S;
+  double s_max = 0, s_min = 0;
+
+  explicit ScaledMatrix(const FullMatrix<double> &J)
+    : row_scale(J.m()), col_scale(J.m()), S(J.m(), J.m())
+  {
+    const unsigned int n = J.m();
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        double m = 0;
+        for (unsigned int j = 0; j < n; ++j) m = std::max(m, std::abs(J(i, j)));
+        row_scale[i] = m > 0 ? 1 / m : 1;
+      }
+    for (unsigned int j = 0; j < n; ++j)
+      {
+        double m = 0;
+        for (unsigned int i = 0; i < n; ++i) m = std::max(m, std::abs(row_scale[i] * J(i, j)));
+        col_scale[j] = m > 0 ? 1 / m : 1;
+      }
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < n; ++j) S(i, j) = row_scale[i] * J(i, j) * col_scale[j];
+    S.compute_svd();
+    s_max = S.singular_value(0);
+    s_min = S.singular_value(n - 1);
+  }
+  bool singular(const double tolerance) const { return !(s_min > tolerance * s_max); }
+  /// The step solving J step = -r (singular values below @p tolerance x the largest left out).
+  Vector<double> step(const Vector<double> &r, const double tolerance) const
+  {
+    const unsigned int n = r.size();
+    Vector<double> z(n), step(n);
+    const auto &U = S.get_svd_u(), &Vt = S.get_svd_vt();
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        if (!(S.singular_value(k) > tolerance * s_max)) continue;
+        double c = 0;
+        for (unsigned int i = 0; i < n; ++i) c -= U(i, k) * row_scale[i] * r[i];
+        c /= S.singular_value(k);
+        for (unsigned int j = 0; j < n; ++j) z[j] += Vt(k, j) * c;
+      }
+    for (unsigned int j = 0; j < n; ++j) step[j] = col_scale[j] * z[j];
+    return step;
+  }
+  /// True if @p r is balanced along every singular direction: its part along each left singular
+  /// vector u_k of a singular value below @p tolerance x the largest is within the part of the
+  /// tolerances @p allowed (per row) along u_k.
+  bool balanced_along_singular_directions(const Vector<double> &r, const Vector<double> &allowed,
+                                          const double tolerance) const
+  {
+    const unsigned int n = r.size();
+    const auto &U = S.get_svd_u();
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        if (S.singular_value(k) > tolerance * s_max) continue;
+        double along = 0, bound = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          along += U(i, k) * row_scale[i] * r[i], bound += std::abs(U(i, k)) * row_scale[i] * allowed[i];
+        if (std::abs(along) > bound) return false;
+      }
+    return true;
+  }
+  /// The velocity coordinate (< @p nv) that moves most along the last right singular vector.
+  unsigned int singular_motion(const unsigned int nv) const
+  {
+    const unsigned int last = S.m() - 1;
+    unsigned int worst = 0;
+    for (unsigned int j = 0; j < nv; ++j)
+      if (std::abs(S.get_svd_vt()(last, j)) > std::abs(S.get_svd_vt()(last, worst))) worst = j;
+    return worst;
+  }
+};
+
+/// [K B^T; B 0] (n_v + n_l square).
+FullMatrix<double> augmented(const FullMatrix<double> &K, const FullMatrix<double> &B)
 {
   const unsigned int nv = K.m(), nl = B.m();
-  // Null-space basis Z of B: the right singular vectors beyond its rank.
-  std::vector<Vector<double>> Z;
-  if (nl == 0)
-    for (unsigned int i = 0; i < nv; ++i)
-      {
-        Vector<double> z(nv);
-        z[i] = 1;
-        Z.push_back(z);
-      }
-  else
-    {
-      LAPACKFullMatrix<double> Bs(nv, nv); // B padded with zero rows to a square matrix
-      for (unsigned int r = 0; r < nl; ++r)
-        for (unsigned int c = 0; c < nv; ++c) Bs(r, c) = B(r, c);
-      Bs.compute_svd();
-      const double s0 = Bs.singular_value(0);
-      for (unsigned int i = 0; i < nv; ++i)
-        if (Bs.singular_value(i) <= 1e-10 * s0)
-          {
-            Vector<double> z(nv);
-            for (unsigned int c = 0; c < nv; ++c) z[c] = Bs.get_svd_vt()(i, c);
-            Z.push_back(z);
-          }
-    }
-  if (Z.empty()) return 0;
-  const unsigned int n = Z.size();
-  LAPACKFullMatrix<double> S(n, n);
-  Vector<double> Kz(nv);
-  for (unsigned int j = 0; j < n; ++j)
-    {
-      K.vmult(Kz, Z[j]);
-      for (unsigned int i = 0; i < n; ++i) S(i, j) += 0.5 * (Z[i] * Kz), S(j, i) += 0.5 * (Z[i] * Kz);
-    }
-  S.compute_eigenvalues();
-  double smallest = S.eigenvalue(0).real();
-  for (unsigned int i = 1; i < n; ++i) smallest = std::min(smallest, S.eigenvalue(i).real());
-  return smallest;
+  FullMatrix<double> J(nv + nl, nv + nl);
+  for (unsigned int i = 0; i < nv; ++i)
+    for (unsigned int c = 0; c < nv; ++c) J(i, c) = K(i, c);
+  for (unsigned int k = 0; k < nl; ++k)
+    for (unsigned int c = 0; c < nv; ++c) J(nv + k, c) = J(c, nv + k) = B(k, c);
+  return J;
+}
+
+/// What the shifted step needs of the motions the joints allow (the null space Z of B): the
+/// eigenvalues of the symmetric part of K_T against M on it (Z^T K_s Z w = omega^2 Z^T M Z w,
+/// [1/s^2]: negative for a motion that the loads push further, e.g. an inverted pendulum) and the
+/// acceleration that the unbalanced force @p r_f (its first n_v rows) gives along them,
+/// Z (Z^T M Z)^+ Z^T r_f (velocity coordinates: m/s^2, rad/s^2, modal).
+struct AllowedMotions
+{
+  double lowest = 0, largest = 0; ///< smallest eigenvalue, largest |eigenvalue| [1/s^2]
+  Vector<double> acceleration;
+};
+AllowedMotions allowed_motions(const FullMatrix<double> &K, const FullMatrix<double> &M, const FullMatrix<double> &B,
+                               const Vector<double> &r)
+{
+  const unsigned int nv = K.m();
+  AllowedMotions a;
+  a.acceleration.reinit(nv);
+  const FullMatrix<double> Z = constraint_null_space(B, nv);
+  const unsigned int nf = Z.n();
+  if (nf == 0) return a;
+  FullMatrix<double> Ks(nv, nv), Kr(nf, nf), Mr(nf, nf);
+  for (unsigned int i = 0; i < nv; ++i)
+    for (unsigned int j = 0; j < nv; ++j) Ks(i, j) = 0.5 * (K(i, j) + K(j, i));
+  Kr.triple_product(Ks, Z, Z, true, false);
+  Mr.triple_product(M, Z, Z, true, false);
+  // M-orthonormal basis W of the allowed motions with mass: Mr = U diag(m) U^T, W = U m^-1/2.
+  LAPACKFullMatrix<double> Ml(nf, nf);
+  Ml = Mr;
+  Ml.compute_svd();
+  std::vector<unsigned int> kept;
+  for (unsigned int k = 0; k < nf; ++k)
+    if (Ml.singular_value(k) > 1e-12 * Ml.singular_value(0)) kept.push_back(k);
+  const unsigned int nw = kept.size();
+  if (nw == 0) return a;
+  FullMatrix<double> W(nf, nw), A(nw, nw);
+  for (unsigned int c = 0; c < nw; ++c)
+    for (unsigned int i = 0; i < nf; ++i) W(i, c) = Ml.get_svd_u()(i, kept[c]) / std::sqrt(Ml.singular_value(kept[c]));
+  A.triple_product(Kr, W, W, true, false);
+  LAPACKFullMatrix<double> Al(nw, nw);
+  Al = A;
+  Al.compute_eigenvalues();
+  a.lowest = Al.eigenvalue(0).real();
+  for (unsigned int k = 0; k < nw; ++k)
+    a.lowest = std::min(a.lowest, Al.eigenvalue(k).real()), a.largest = std::max(a.largest, std::abs(Al.eigenvalue(k)));
+  // acceleration = Z W W^T Z^T r_f
+  Vector<double> rf(nv), zr(nf), wr(nw), w(nf);
+  for (unsigned int i = 0; i < nv; ++i) rf[i] = r[i];
+  Z.Tvmult(zr, rf);
+  W.Tvmult(wr, zr);
+  W.vmult(w, wr);
+  Z.vmult(a.acceleration, w);
+  return a;
 }
 } // namespace
 
-EquilibriumReport solve_static_equilibrium(const System &system, const double t0, Vector<double> &y,
+EquilibriumReport solve_static_equilibrium(System &system, const double t0, Vector<double> &y,
                                            const EquilibriumSettings &settings)
 {
   const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda(), n = nv + nl;
@@ -146,25 +247,35 @@ EquilibriumReport solve_static_equilibrium(const System &system, const double t0
   system.generalized_forces(t0, y, Q);
   report.load_scale = max_abs(Q);
   const double force_tolerance = settings.relative_tolerance * (report.load_scale > 0 ? report.load_scale : 1.0);
+  Vector<double> allowed(n); // the tolerance of each residual row
+  for (unsigned int i = 0; i < n; ++i) allowed[i] = i < nv ? force_tolerance : settings.position_tolerance;
+  const double length = scene_length_scale(system, y); // [m], for the shifted steps
 
-  // First multipliers: least squares of B^T lambda = Q (B has full row rank: redundant
-  // equations are dropped). With lambda = 0 a rigid pendulum would have no stiffness at all: its
-  // restoring stiffness is the constraint force turning with the body, d(B^T lambda)/dq.
-  Vector<double> lambda(nl), r, r_trial;
-  if (nl > 0)
-    {
-      Vector<double> phi, phi_t, BQ(nl);
-      FullMatrix<double> B0;
-      system.constraints(t0, y, false, phi, B0, phi_t);
-      B0.vmult(BQ, Q);
-      LAPACKFullMatrix<double> BBt(nl, nl);
-      for (unsigned int i = 0; i < nl; ++i)
+  // Multipliers of least (weighted) squares of B^T lambda - Q at the positions of @p yy, row i
+  // weighted by w_i (B has full row rank: redundant equations are dropped).
+  auto least_squares_multipliers = [&](const Vector<double> &yy, const Vector<double> &w) {
+    Vector<double> phi, phi_t, Qy, BQ(nl);
+    FullMatrix<double> B0;
+    system.generalized_forces(t0, yy, Qy);
+    system.constraints(t0, yy, false, phi, B0, phi_t);
+    if (nl == 0) return BQ;
+    LAPACKFullMatrix<double> BBt(nl, nl);
+    for (unsigned int i = 0; i < nl; ++i)
+      {
+        for (unsigned int c = 0; c < nv; ++c) BQ[i] += B0(i, c) * w[c] * w[c] * Qy[c];
         for (unsigned int j = 0; j < nl; ++j)
-          for (unsigned int c = 0; c < nv; ++c) BBt(i, j) += B0(i, c) * B0(j, c);
-      BBt.compute_lu_factorization();
-      BBt.solve(BQ);
-      lambda = BQ;
-    }
+          for (unsigned int c = 0; c < nv; ++c) BBt(i, j) += B0(i, c) * w[c] * w[c] * B0(j, c);
+      }
+    BBt.compute_lu_factorization();
+    BBt.solve(BQ);
+    return BQ;
+  };
+  // First multipliers: least squares of B^T lambda = Q. With lambda = 0 a rigid pendulum would
+  // have no stiffness at all: its restoring stiffness is the constraint force turning with the
+  // body, d(B^T lambda)/dq.
+  Vector<double> r, r_trial, unit(n);
+  unit = 1;
+  Vector<double> lambda = least_squares_multipliers(y, unit);
   static_residual(system, t0, y, lambda, r);
   auto converged = [&](const Vector<double> &res) {
     double f = 0, c = 0;
@@ -172,17 +283,60 @@ EquilibriumReport solve_static_equilibrium(const System &system, const double t0
     for (unsigned int i = nv; i < n; ++i) c = std::max(c, std::abs(res[i]));
     return f <= force_tolerance && c <= settings.position_tolerance;
   };
+  auto refuse_as_mechanism = [&](const ScaledMatrix &S) {
+    std::ostringstream s;
+    s << std::setprecision(3)
+      << "'static equilibrium': the scene is a mechanism under these loads: the static stiffness is singular "
+         "(smallest singular value "
+      << S.s_min / S.s_max << " of the largest, equilibrated) along '" << system.component_name(nq + S.singular_motion(nv))
+      << "', a motion that no joint, driver, spring or load holds, so there is no unique equilibrium. Hold that "
+         "motion (a joint, a driver, a spring), or set 'Initial state = as given'";
+    throw InputError(entry, s.str());
+  };
 
-  Vector<double> row_scale(n), col_scale(n);
+  Vector<double> row_scale(n);
   auto merit = [&](const Vector<double> &res) {
     double s = 0;
     for (unsigned int i = 0; i < n; ++i) s += std::pow(row_scale[i] * res[i], 2);
     return std::sqrt(s);
   };
+  // Moves to y + alpha step (positions) and lambda + alpha step; true if the residual there
+  // decreases enough (or converges): then y, lambda and r are the trial's.
+  Vector<double> y_trial, lambda_trial(nl), dx(nv);
+  auto try_step = [&](const Vector<double> &step, const double alpha, const double m0) {
+    y_trial = y;
+    for (unsigned int j = 0; j < nv; ++j) dx[j] = alpha * step[j];
+    system.move_positions(y_trial, dx);
+    for (unsigned int k = 0; k < nl; ++k) lambda_trial[k] = lambda[k] + alpha * step[nv + k];
+    static_residual(system, t0, y_trial, lambda_trial, r_trial);
+    if (!(merit(r_trial) < (1 - 1e-4 * alpha) * m0 || converged(r_trial))) return false;
+    y = y_trial;
+    lambda = lambda_trial;
+    r = r_trial;
+    return true;
+  };
+  // The largest alpha <= 1 that keeps every body's rotation within max_turn [rad] (and, if
+  // max_shift > 0, its frame's displacement within max_shift [m]).
+  auto limited = [&](const Vector<double> &step, const double max_turn, const double max_shift) {
+    double alpha = 1;
+    for (unsigned int b = 1; b < system.n_bodies(); ++b)
+      for (unsigned int a = 0; a < std::min(6u, system.body(b).n_v()); ++a)
+        {
+          const double size = std::abs(step[system.v_offset(b) + a]);
+          if (a >= 3) alpha = std::min(alpha, max_turn / std::max(1e-300, size));
+          else if (max_shift > 0) alpha = std::min(alpha, max_shift / std::max(1e-300, size));
+        }
+    return alpha;
+  };
 
-  FullMatrix<double> J(n, n), K(nv, nv), B;
+  FullMatrix<double> K(nv, nv), B, M;
   const double h = 1e-6;
   unsigned int it = 0;
+  bool last_singular = false; // the last tangent was singular (and unbalanced along it)
+  std::string singular_along;
+  // Set at the first step without Newton: from then on the iteration goes downhill (Newton only
+  // where the stiffness on the allowed motions is positive), to a stable equilibrium.
+  bool descending = false;
   for (; it < settings.max_iterations; ++it)
     {
       // One tangent at least, also when the start is balanced already: a slider on a level guide
@@ -190,83 +344,74 @@ EquilibriumReport solve_static_equilibrium(const System &system, const double t0
       if (it > 0 && converged(r)) break;
       // Tangent: K_T by central differences of r_f, B and B^T analytic.
       static_stiffness(system, t0, y, lambda, h, K, B);
-      J = 0;
-      for (unsigned int i = 0; i < nv; ++i)
-        for (unsigned int c = 0; c < nv; ++c) J(i, c) = K(i, c);
-      for (unsigned int k = 0; k < nl; ++k)
-        for (unsigned int c = 0; c < nv; ++c) J(nv + k, c) = J(c, nv + k) = B(k, c);
-
-      // Equilibrate (rows, then columns, by their largest entries), SVD, singularity check.
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          double m = 0;
-          for (unsigned int j = 0; j < n; ++j) m = std::max(m, std::abs(J(i, j)));
-          row_scale[i] = m > 0 ? 1 / m : 1;
-        }
-      for (unsigned int j = 0; j < n; ++j)
-        {
-          double m = 0;
-          for (unsigned int i = 0; i < n; ++i) m = std::max(m, std::abs(row_scale[i] * J(i, j)));
-          col_scale[j] = m > 0 ? 1 / m : 1;
-        }
-      LAPACKFullMatrix<double> S(n, n);
-      for (unsigned int i = 0; i < n; ++i)
-        for (unsigned int j = 0; j < n; ++j) S(i, j) = row_scale[i] * J(i, j) * col_scale[j];
-      S.compute_svd();
-      const double s_max = S.singular_value(0), s_min = S.singular_value(n - 1);
-      if (!(s_min > settings.singular_tolerance * s_max))
-        {
-          // The coordinate that moves most along the singular direction (last right singular vector).
-          unsigned int worst = 0;
-          for (unsigned int j = 0; j < nv; ++j)
-            if (std::abs(S.get_svd_vt()(n - 1, j)) > std::abs(S.get_svd_vt()(n - 1, worst))) worst = j;
-          std::ostringstream s;
-          s << std::setprecision(3)
-            << "'static equilibrium': the scene is a mechanism under these loads: the static stiffness is singular "
-               "(smallest singular value "
-            << s_min / s_max << " of the largest, equilibrated) along '" << system.component_name(nq + worst)
-            << "', a motion that no joint, driver, spring or load holds, so there is no unique equilibrium. Hold that "
-               "motion (a joint, a driver, a spring), or set 'Initial state = as given'";
-          throw InputError(entry, s.str());
-        }
-      // Newton step from the SVD: z = V diag(1/s) U^T (R r), dx = C z
-      Vector<double> rhs(n), z(n), step(n);
-      for (unsigned int i = 0; i < n; ++i) rhs[i] = -row_scale[i] * r[i];
-      const auto &U = S.get_svd_u(), &Vt = S.get_svd_vt();
-      for (unsigned int k = 0; k < n; ++k)
-        {
-          double c = 0;
-          for (unsigned int i = 0; i < n; ++i) c += U(i, k) * rhs[i];
-          c /= S.singular_value(k);
-          for (unsigned int j = 0; j < n; ++j) z[j] += Vt(k, j) * c;
-        }
-      for (unsigned int j = 0; j < n; ++j) step[j] = col_scale[j] * z[j];
-
-      // At most 0.5 rad of rotation per step (a turn too far could leap to another equilibrium).
-      double alpha = 1;
-      for (unsigned int b = 1; b < system.n_bodies(); ++b)
-        for (unsigned int a = 3; a < 6; ++a)
-          alpha = std::min(alpha, 0.5 / std::max(1e-300, std::abs(step[system.v_offset(b) + a])));
+      const ScaledMatrix S(augmented(K, B));
+      row_scale = S.row_scale;
       const double m0 = merit(r);
-      Vector<double> y_trial, lambda_trial(nl), dx(nv);
-      bool accepted = false;
-      for (unsigned int cut = 0; cut < 30; ++cut, alpha *= 0.5)
+      last_singular = S.singular(settings.singular_tolerance);
+      if (last_singular)
         {
-          y_trial = y;
-          for (unsigned int j = 0; j < nv; ++j) dx[j] = alpha * step[j];
-          system.move_positions(y_trial, dx);
-          for (unsigned int k = 0; k < nl; ++k) lambda_trial[k] = lambda[k] + alpha * step[nv + k];
-          static_residual(system, t0, y_trial, lambda_trial, r_trial);
-          if (merit(r_trial) < (1 - 1e-4 * alpha) * m0 || converged(r_trial))
-            {
-              accepted = true;
-              break;
-            }
+          // Nothing holds the motion and nothing pushes along it: a mechanism. Otherwise (a
+          // pendulum started horizontal) the shifted step below moves it on.
+          if (S.balanced_along_singular_directions(r, allowed, settings.singular_tolerance)) refuse_as_mechanism(S);
+          singular_along = system.component_name(nq + S.singular_motion(nv));
         }
-      if (!accepted) break; // no descent: reported below as not converged
+      AllowedMotions motions;
+      bool have_motions = false;
+      auto find_motions = [&]() {
+        if (have_motions) return;
+        system.mass_matrix(y, M);
+        motions = allowed_motions(K, M, B, r);
+        have_motions = true;
+      };
+      bool newton = !last_singular;
+      if (newton && descending)
+        {
+          // Going downhill already: no Newton step towards a maximum or a saddle (an indefinite
+          // stiffness on the allowed motions; round-off aside).
+          find_motions();
+          newton = !(motions.lowest < -1e-12 * motions.largest);
+        }
+      if (newton)
+        {
+          // Newton step, at most 0.5 rad of rotation (a turn too far could leap to another
+          // equilibrium), halved until the residual decreases.
+          const Vector<double> step = S.step(r, 0);
+          double alpha = limited(step, 0.5, 0);
+          bool accepted = false;
+          for (unsigned int cut = 0; cut < 30 && !accepted; ++cut, alpha *= 0.5) accepted = try_step(step, alpha, m0);
+          if (accepted) continue;
+        }
+
+      // No Newton step (or none downhill): the mass-shifted tangent K_T + mu M.
+      descending = true;
+      find_motions();
+      double mu_load = 0; // the unbalanced acceleration over 0.25 rad or 0.25 of the scene's size
+      for (unsigned int b = 1; b < system.n_bodies(); ++b)
+        for (unsigned int a = 0; a < std::min(6u, system.body(b).n_v()); ++a)
+          mu_load = std::max(mu_load, std::abs(motions.acceleration[system.v_offset(b) + a]) / (a < 3 ? 0.25 * length : 0.25));
+      double mu = std::max({2 * std::max(0.0, -motions.lowest), mu_load, 1e-10 * motions.largest});
+      if (!(mu > 0)) mu = 1; // nothing to scale by (no allowed motion with mass): any positive shift
+      // The shifted step is taken as it is (at most 0.5 rad and 0.5 L), not judged by the
+      // residual: going downhill from a stationary point (a pendulum started horizontal, or near
+      // its top) the unbalanced load first grows, and the residual's weights change from one
+      // tangent to the next. The multipliers are then those of least (weighted) squares at the
+      // new positions, a start for Newton's next tangent that holds the link forces.
+      FullMatrix<double> Kmu(K);
+      Kmu.add(mu, M);
+      const Vector<double> step = ScaledMatrix(augmented(Kmu, B)).step(r, settings.singular_tolerance);
+      const double alpha = limited(step, 0.5, 0.5 * length);
+      for (unsigned int j = 0; j < nv; ++j) dx[j] = alpha * step[j];
+      y_trial = y;
+      system.move_positions(y_trial, dx);
+      lambda_trial = least_squares_multipliers(y_trial, row_scale);
+      static_residual(system, t0, y_trial, lambda_trial, r_trial);
+      bool finite = true;
+      for (unsigned int i = 0; i < n; ++i) finite = finite && std::isfinite(r_trial[i]);
+      if (!finite) break; // reported below as not converged
       y = y_trial;
       lambda = lambda_trial;
       r = r_trial;
+      ++report.shifted_steps;
     }
   report.iterations = it;
   for (unsigned int i = 0; i < nv; ++i) report.force_residual = std::max(report.force_residual, std::abs(r[i]));
@@ -277,25 +422,35 @@ EquilibriumReport solve_static_equilibrium(const System &system, const double t0
       double worst_ratio = 0;
       for (unsigned int i = 0; i < n; ++i)
         {
-          const double ratio = std::abs(r[i]) / (i < nv ? force_tolerance : settings.position_tolerance);
+          const double ratio = std::abs(r[i]) / allowed[i];
           if (ratio > worst_ratio) worst_ratio = ratio, worst = i;
         }
       std::ostringstream s;
       s << std::setprecision(3) << "'static equilibrium': no equilibrium found: after " << it
         << " damped Newton iterations the largest residual is " << r[worst] << " in the " << row_name(system, worst)
-        << " (tolerance " << (worst < nv ? force_tolerance : settings.position_tolerance)
-        << (worst < nv ? " N, N m or modal force" : " m or rad")
-        << "). The loads may be more than the structure can carry (a torque above the largest restoring moment, a "
+        << " (tolerance " << allowed[worst] << (worst < nv ? " N, N m or modal force" : " m or rad") << ")";
+      if (last_singular)
+        s << "; the static stiffness is singular along '" << singular_along
+          << "', a motion that nothing holds against the load on it";
+      s << ". The loads may be more than the structure can carry (a torque above the largest restoring moment, a "
            "flexible body pushed past its linear range), or the start is too far from the equilibrium: start "
            "closer (Position, Rotation vector, Modal coordinates), or set 'Initial state = as given'";
       throw InputError(entry, s.str());
     }
-
-  // Stability: the stiffness on the constraint null space (an inverted pendulum is an equilibrium too).
+  // Balanced, but is it unique? A tangent singular at the equilibrium found is a mechanism too.
+  static_stiffness(system, t0, y, lambda, h, K, B);
   {
-    static_stiffness(system, t0, y, lambda, h, K, B);
-    report.smallest_stiffness = smallest_constrained_stiffness(K, B);
-    report.stable = report.smallest_stiffness >= -1e-8 * K.linfty_norm(); // finite-difference noise
+    const ScaledMatrix S(augmented(K, B));
+    if (S.singular(settings.singular_tolerance)) refuse_as_mechanism(S);
+  }
+
+  // Stability: the linearisation about the equilibrium, judged as 'flextrack linearize' judges it
+  // (an inverted pendulum is an equilibrium too).
+  {
+    const StabilityVerdict verdict = classify_stability(linearize(system, t0, y));
+    report.stable = verdict.stable();
+    report.unstable_modes = verdict.unstable_modes;
+    report.growth_rate = verdict.largest_growth_rate;
   }
   report.moves = moves(system, y0, y);
   return report;
@@ -305,11 +460,14 @@ std::string EquilibriumReport::text() const
 {
   if (!solved) return "";
   std::ostringstream s;
-  s << std::setprecision(3) << "Static equilibrium: " << iterations << " Newton iteration(s); max |B^T lambda - Q| = "
-    << force_residual << " (largest load " << load_scale << "), |Phi| = " << position_residual
-    << (stable ? "" : "; UNSTABLE: the stiffness on the constraint null space has a negative eigenvalue (e.g. an "
-                      "inverted pendulum); the run will leave it")
-    << "\n";
+  s << std::setprecision(3) << "Static equilibrium: " << iterations << " Newton iteration(s)";
+  if (shifted_steps) s << " (" << shifted_steps << " with the mass-shifted tangent K_T + mu M: Newton had no step)";
+  s << "; max |B^T lambda - Q| = " << force_residual << " (largest load " << load_scale << "), |Phi| = " << position_residual;
+  if (!stable)
+    s << std::setprecision(9) << "; UNSTABLE: linearised about it, " << unstable_modes
+      << " mode(s) grow, the fastest at Re s = " << growth_rate
+      << " 1/s (e.g. an inverted pendulum); the run will leave it";
+  s << "\n" << std::setprecision(3);
   for (const auto &m : moves)
     s << "  body " << m.body << ": moved " << m.displacement << " m, turned " << m.rotation << " rad"
       << (m.modal > 0 ? ", modal change " + std::to_string(m.modal) : std::string()) << "\n";
