@@ -121,7 +121,7 @@ std::string describe(const io::ArmScene &scene)
   else
     d << "arm: " << scene.arm.curve->description() << ", L = " << scene.arm.curve->length() << " m"
       << (scene.arm.curve->is_closed() ? " (closed)" : "") << ", " << scene.arm.n_elements
-      << " elements of degree " << scene.arm.degree;
+      << " elements of degree " << scene.arm.degree << "; supports: " << scene.arm.supports_text();
   return d.str();
 }
 /// Participation factors, effective masses and classes of the modes (one process only: the

@@ -13,6 +13,23 @@ namespace flextrack::fem
 {
 using dealii::ParameterHandler;
 
+std::string Arm::supports_text() const
+{
+  static const char *kind_name[] = {"free", "pinned", "clamped"};
+  std::ostringstream t;
+  const double L = curve ? curve->length() : 0;
+  for (std::size_t i = 0; i < supports.size(); ++i)
+    {
+      const auto &p = supports[i];
+      t << (i ? ", " : "");
+      if (i == 0 && p.s == 0) t << "start ";
+      else if (i == 1 && p.s == L) t << "end ";
+      else t << "s = " << p.s << " m ";
+      t << kind_name[static_cast<int>(p.kind)];
+    }
+  return t.str();
+}
+
 SupportKind parse_support_kind(const std::string &text, const std::string &entry)
 {
   std::string t = text;
@@ -142,9 +159,12 @@ void Arm::declare_parameters(ParameterHandler &prm, const std::string &section)
   Material::declare_parameters(prm);
   prm.enter_subsection("Supports");
   const auto kinds = dealii::Patterns::Selection("clamped|pinned|free");
-  prm.declare_entry("Start", "clamped", kinds,
+  // Free by default (issue 25, item 5): an arm is held only where the scene says so (a support
+  // here, a tie to a solid, a joint at an interface); the log lists every arm's supports.
+  prm.declare_entry("Start", "free", kinds,
                     "Support at s = 0: 'clamped' (3 displacements and 3 rotations fixed), 'pinned' "
-                    "(3 displacements fixed), 'free'.");
+                    "(3 displacements fixed), 'free' (the default: an arm held by a tie or by a joint at an "
+                    "interface needs no support; a cantilever says 'clamped').");
   prm.declare_entry("End", "free", kinds, "Support at the far end s = L (same choices).");
   prm.declare_entry("Intermediate", "", dealii::Patterns::Anything(),
                     "Further supports as 'arc length [m]: kind' separated by ';', e.g. '0.5: pinned; "

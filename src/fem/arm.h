@@ -45,6 +45,9 @@ struct Arm
   /// rebuilds curve and frame exactly, e.g. from a reduced body file. Empty for an arm built in code.
   std::string geometry_parameters;
 
+  /// The supports for a log: "start clamped, end free" and any intermediate "s = 0.5 m pinned".
+  std::string supports_text() const;
+
   /// Declares "subsection @p section" (a body's arms are "Arm NAME").
   static void declare_parameters(dealii::ParameterHandler &prm, const std::string &section = "Arm");
   /// Reads "subsection @p section"; relative file names are taken from @p directory.

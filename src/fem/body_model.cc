@@ -342,9 +342,25 @@ void BodyModel::add_interfaces(AffineConstraints<double> &c, const std::vector<u
         }
       for (unsigned int d = 0; d < 6; ++d)
         if (c.is_constrained(dofs[d]))
-          throw InputError("Body/Interfaces", "interface '" + p.name + "' at " + point_text(x) +
-                                                " lies on a support or at the root of a distributing tie, so its "
-                                                "dofs are not free; move it");
+          {
+            // Name the support that holds it: a joint at an interface already holds the body
+            // there, so the usual fix is to drop the support, not to move the interface.
+            std::string fix = "move it, or free what holds it";
+            if (!p.arm.empty())
+              {
+                const auto &arm = description.arms[description.arm_index(p.arm)];
+                const double L = arm.curve->length();
+                for (std::size_t k = 0; k < arm.supports.size(); ++k)
+                  if (arm.supports[k].kind != SupportKind::free && std::abs(arm.supports[k].s - p.s) <= 1e-9 * std::max(L, 1.0))
+                    fix = "it is held by the support '" + arm.section_name + "/Supports/" +
+                          (k == 0 ? "Start" : k == 1 ? "End" : "Intermediate") +
+                          "'. A joint at an interface holds the body there already: set that support to 'free' "
+                          "(the default), or move the interface";
+              }
+            throw InputError("Body/Interfaces", "interface '" + p.name + "' at " + point_text(x) +
+                                                  " lies on a support or at the root of a distributing tie, so its "
+                                                  "dofs are not free; " + fix);
+          }
       interface_full_dofs.push_back(dofs);
       interface_list.push_back({p.name, x, {}});
     }

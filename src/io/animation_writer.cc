@@ -64,20 +64,6 @@ std::string data_array(const std::string &type, const std::string &name, const u
   return s.str();
 }
 
-/// A String array (VTK: each string followed by a zero byte, NumberOfTuples the count).
-std::string string_array(const std::string &name, const std::vector<std::string> &strings)
-{
-  std::string packed;
-  for (const auto &s : strings) packed += s + '\0';
-  std::string bytes(sizeof(std::uint64_t), '\0');
-  const std::uint64_t n = packed.size();
-  std::memcpy(bytes.data(), &n, sizeof(n));
-  std::ostringstream s;
-  s << "<Array type=\"String\" Name=\"" << name << "\" NumberOfTuples=\"" << strings.size()
-    << "\" format=\"binary\">\n" << base64(bytes + packed) << "\n</Array>\n";
-  return s.str();
-}
-
 /// Names go into XML attributes and text: the characters XML reserves are escaped.
 std::string xml_text(const std::string &text)
 {
@@ -140,6 +126,13 @@ AnimationWriter::AnimationWriter(const multibody::System &s) : system(s)
           }
       }
   min_side = std::max({0.03 * scale, 2 * largest_section, 1e-6});
+  for (unsigned int b = 1; b < system.n_bodies(); ++b)
+    {
+      // "--" may not appear inside an XML comment
+      std::string name = xml_text(system.body(b).name());
+      for (std::size_t at; (at = name.find("--")) != std::string::npos;) name.replace(at, 2, "- ");
+      body_legend += (b > 1 ? ", " : "") + std::to_string(b) + " = " + name;
+    }
 
   for (unsigned int b = 1; b < system.n_bodies(); ++b)
     {
@@ -382,13 +375,13 @@ void AnimationWriter::add_frame(const double t, const dealii::Vector<double> &y,
         }
       n_points += P;
     }
-  std::vector<std::string> names;
-  for (unsigned int b = 1; b < system.n_bodies(); ++b) names.push_back(xml_text(system.body(b).name()));
+  // The body names go into a comment: a String array names them for ParaView, but meshio (and
+  // other VTU readers) refuse the whole file for it.
   std::ostringstream vtu;
   vtu << "<?xml version=\"1.0\"?>\n<!-- FlexTrack " FLEXTRACK_VERSION ": multibody animation, t = " << number(t)
-      << " s -->\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-      << "<UnstructuredGrid>\n<FieldData>\n"
-      << data_array("Float64", "TimeValue", 1, std::vector<double>{t}) << string_array("body_names", names)
+      << " s; cell data 'body': " << body_legend
+      << " -->\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      << "<UnstructuredGrid>\n<FieldData>\n" << data_array("Float64", "TimeValue", 1, std::vector<double>{t})
       << "</FieldData>\n<Piece NumberOfPoints=\"" << n_points << "\" NumberOfCells=\"" << types.size() << "\">\n"
       << "<PointData Vectors=\"displacement\">\n" << data_array("Float64", "displacement", 3, displacement)
       << data_array("Float64", "velocity", 3, velocity) << "</PointData>\n"

@@ -14,8 +14,8 @@
 // and twice the largest arm section, and a point mass is drawn as the steel cube of its mass
 // (side (m / 7850 kg/m^3)^(1/3)) if that is larger.
 // Data: point fields "displacement" (elastic, global axes [m]) and "velocity" (global [m/s]);
-// cell data "body" numbers the bodies (1, 2, ... in the order of Multibody/Bodies); field data
-// "body_names" (the names in that order) and "TimeValue" [s].
+// cell data "body" numbers the bodies (1, 2, ... in the order of Multibody/Bodies; the comment
+// at the top of each file and the log name them); field data "TimeValue" [s].
 #pragma once
 
 #include <io/output_folder.h>
@@ -67,6 +67,7 @@ private:
   const multibody::System &system;
   std::vector<Drawing> drawings;
   double min_side = 0;
+  std::string body_legend; ///< "1 = base, 2 = sleeve, ..."
   std::vector<double> times;
 };
 } // namespace flextrack::io

@@ -129,6 +129,9 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
                                     TimerOutput &timer, const std::function<void()> &before_reduction)
 {
   ObtainedBody result;
+  // Supports change the physics and default to free: the log says what each arm has.
+  for (std::size_t a = 0; a < scene.body.arms.size(); ++a)
+    log << "  arm " << scene.body.arm_names[a] << " supports: " << scene.body.arms[a].supports_text() << "\n";
   CacheLock lock(file, log);
   {
     TimerOutput::Scope t(timer, "load cached reduced body");

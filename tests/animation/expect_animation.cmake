@@ -1,4 +1,5 @@
-# The animation as a user sees it (issue 25, item 13): run arm_and_bead.prm, then render and
+# The animation and plots as a user sees them (issue 25, item 13): run arm_and_bead.prm (run.png
+# drawn by default), then render and
 # read its frames with ParaView (check_animation.py under xvfb-run pvbatch: the tube's and the
 # cubes' drawn sizes against the section and the point-like size, the fields against rigid-body
 # kinematics). Arguments: EXE, SRC, OUT, XVFB_RUN, PVBATCH.
@@ -13,9 +14,14 @@ foreach(line "1 arm: 1 arm tube\\(s\\), 1 point mass cube\\(s\\), deformed" "2 b
     message(FATAL_ERROR "the log does not say what is drawn ('${line}'):\n${log}")
   endif()
 endforeach()
+# Output/Plots defaults to true: run.png is drawn and listed (a PNG signature at its start).
+file(READ ${OUT}/run/run.png signature LIMIT 8 HEX)
+if(NOT signature STREQUAL "89504e470d0a1a0a" OR NOT log MATCHES "results in .*run.png")
+  message(FATAL_ERROR "no run.png by default (signature '${signature}'):\n${log}")
+endif()
 execute_process(COMMAND ${XVFB_RUN} -a ${PVBATCH} ${SRC}/tests/animation/check_animation.py ${OUT}/run ${OUT}/frame0.png
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message(STATUS "${out}")
-if(NOT rc EQUAL 0 OR NOT out MATCHES "body_names")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "the file names the bodies")
   message(FATAL_ERROR "the animation check failed (${rc}); screenshot ${OUT}/frame0.png\n${err}")
 endif()

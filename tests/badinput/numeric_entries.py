@@ -136,7 +136,7 @@ def context(path, name):
 CONSEQUENCES = {"Arm boom/Curve": ("Body/Ties", "Body/Interfaces")}
 
 # Text entries that hold no number to sweep although their documentation names a unit.
-TEXT_ENTRIES = {"Node sets", "Points file", "Mesh file", "Directory", "Export formats", "Track arms", "Arms", "Kind", "Shape",
+TEXT_ENTRIES = {"Plots", "Node sets", "Points file", "Mesh file", "Directory", "Export formats", "Track arms", "Arms", "Kind", "Shape",
                 "Start", "End", "Method", "Mesh", "Element", "Integration", "Direct solver", "Model",
                 # multibody scenes: names, lists of names, switches, file names and expressions
                 "Bodies", "Joints", "Forces", "Probes", "Body", "Body 1", "Body 2", "Interface", "Interface 1",

@@ -26,20 +26,20 @@ using namespace flextrack;
 
 namespace
 {
-// Three free-standing arms (no solid; each clamped at s = 0): an arc with the rotation-minimising
+// Three free-standing arms (no solid; each clamped at s = 0, said explicitly): an arc with the rotation-minimising
 // frame, a helix with the Frenet frame, a spline (points from a file) with a fixed-vector frame.
 const std::string three_arms_scene =
   "set Model = body\nsubsection Body\n set Solid = false\n set Arms = ring, coil, path\nend\n"
   "subsection Arm ring\n subsection Curve\n  set Kind = arc\n  subsection Arc\n   set Radius = 0.4\n"
   "   set Angle = 2.5\n   set Centre = -0.35, 0.1, 0.05\n  end\n end\n"
   " subsection Section frame\n  set Reference vector = 0.3, 0.2, 1\n end\n"
-  " subsection Mesh\n  set Number of elements = 8\n end\nend\n"
+  " subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = 8\n end\nend\n"
   "subsection Arm coil\n subsection Curve\n  set Kind = helix\n  subsection Helix\n   set Radius = 0.3\n"
   "   set Pitch = 0.2\n   set Turns = 1.25\n  end\n end\n subsection Section frame\n  set Kind = frenet\n end\n"
-  " subsection Mesh\n  set Number of elements = 10\n  set Element degree = 3\n end\nend\n"
+  " subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = 10\n  set Element degree = 3\n end\nend\n"
   "subsection Arm path\n subsection Curve\n  set Kind = spline\n  subsection Spline\n   set Points file = points.txt\n"
   "  end\n end\n subsection Section frame\n  set Kind = fixed vector\n end\n"
-  " subsection Mesh\n  set Number of elements = 8\n end\nend\n"
+  " subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = 8\n end\nend\n"
   "subsection Reduction\n set Number of normal modes = 4\nend\n";
 
 // Digits beyond what 6 significant digits would keep, so that the inline copy must be exact.
@@ -49,7 +49,7 @@ const std::string spline_points = "# x y z [m]\n0 0 0\n0.31415926535897931 0.1 0
 const std::string one_arc_scene =
   "set Model = body\nsubsection Body\n set Solid = false\n set Arms = ring\nend\n"
   "subsection Arm ring\n subsection Curve\n  set Kind = arc\n  subsection Arc\n   set Radius = 0.4\n"
-  "   set Angle = 2.5\n  end\n end\n subsection Mesh\n  set Number of elements = 6\n end\nend\n"
+  "   set Angle = 2.5\n  end\n end\n subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = 6\n end\nend\n"
   "subsection Reduction\n set Number of normal modes = 3\nend\n";
 
 struct TemporaryFolder

@@ -59,7 +59,7 @@ std::string straight(double L, const std::string &section, unsigned int elements
   return "subsection Arm\n subsection Curve\n  set Kind = line\n  subsection Line\n   set End point = " +
          std::to_string(L) + ", 0, 0\n  end\n end\n subsection Cross section\n" + section +
          " end\n subsection Material\n  set Young's modulus = 2.1e11\n  set Poisson's ratio = 0.3\n"
-         "  set Density = 7850\n end\n subsection Mesh\n  set Number of elements = " +
+         "  set Density = 7850\n end\n subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = " +
          std::to_string(elements) + "\n  set Element degree = " + std::to_string(degree) +
          "\n end\nend\nsubsection Modal analysis\n set Number of modes = " + std::to_string(n_modes) + "\nend\n";
 }
@@ -200,7 +200,7 @@ TEST(CurvedBeam, observed_convergence_order_is_twice_the_element_degree)
     {
       const std::string prm =
         "subsection Arm\n subsection Curve\n  set Kind = arc\n end\n subsection Cross section\n"
-        "  set Shape = tube\n end\n subsection Mesh\n  set Number of elements = 2\n"
+        "  set Shape = tube\n end\n subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = 2\n"
         "  set Element degree = " + std::to_string(p) +
         "\n end\nend\nsubsection Modal analysis\n set Number of modes = 3\nend\n";
       // Meshes in the asymptotic range: 8-16-32 (p = 1), 2-4-8 (p = 2), 4-8-16 (p = 3).

@@ -476,7 +476,7 @@ TEST(ReducedBody, rotating_cantilever_stiffens_as_published)
   const auto scene = io::read_body_scene_from_string(
     "set Model = body\nsubsection Body\n set Solid = false\n set Arms = blade\nend\nsubsection Arm blade\n"
     " subsection Curve\n  set Kind = line\n  subsection Line\n   set Start point = 0, 0, 0\n   set End point = 1, 0, 0\n"
-    "  end\n end\n subsection Cross section\n  set Diameter = 0.01\n end\n subsection Mesh\n"
+    "  end\n end\n subsection Cross section\n  set Diameter = 0.01\n end\n subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n"
     "  set Number of elements = 16\n  set Element degree = 3\n end\nend\n"
     "subsection Reduction\n set Number of normal modes = 20\n set Geometric stiffness = true\nend\n");
   const fem::BodyModel model(scene.body);

@@ -28,7 +28,7 @@ std::string cantilever(const double L, const double width, const double height, 
   return "subsection Arm\n subsection Curve\n  set Kind = line\n  subsection Line\n   set End point = " +
          std::to_string(L) + ", 0, 0\n  end\n end\n subsection Cross section\n  set Shape = rectangle\n  set Width = " +
          std::to_string(width) + "\n  set Height = " + std::to_string(height) +
-         "\n end\n subsection Mesh\n  set Number of elements = " + std::to_string(elements) +
+         "\n end\n subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = " + std::to_string(elements) +
          "\n  set Element degree = 3\n end\nend\nsubsection Modal analysis\n set Number of modes = " +
          std::to_string(n_modes) + "\nend\n";
 }
@@ -68,7 +68,7 @@ TEST(ModalParticipation, cantilever_effective_masses_match_euler_bernoulli_and_s
   const auto scene = io::read_arm_scene_from_string(
     "subsection Arm\n subsection Curve\n  set Kind = line\n  subsection Line\n   set End point = 3, 0, 0\n  end\n end\n"
     " subsection Cross section\n  set Shape = circle\n  set Diameter = 0.01\n end\n"
-    " subsection Mesh\n  set Number of elements = 64\n  set Element degree = 3\n end\nend\n"
+    " subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = 64\n  set Element degree = 3\n end\nend\n"
     "subsection Modal analysis\n set Number of modes = 24\nend\n",
     prm);
   const fem::CurvedBeamModel model(scene.arm);

@@ -44,7 +44,7 @@ std::string arm_text(const std::string &curve, const unsigned int elements, cons
     << "\n  set Iy = " << I << "\n  set Iz = " << I << "\n  set Torsion constant = " << J
     << "\n  set Polar moment = " << J << "\n  set Shear factor y = " << k << "\n  set Shear factor z = " << k
     << "\n end\n subsection Material\n  set Young's modulus = " << E << "\n  set Poisson's ratio = " << nu
-    << "\n  set Density = " << rho << "\n end\n subsection Mesh\n  set Number of elements = " << elements
+    << "\n  set Density = " << rho << "\n end\n subsection Supports\n  set Start = clamped\n end\n subsection Mesh\n  set Number of elements = " << elements
     << "\n  set Element degree = " << degree << "\n end\nend\n";
   return t.str();
 }
