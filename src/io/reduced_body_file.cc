@@ -120,6 +120,7 @@ void write_file(const ReducedBody &b, const std::string &name)
       const hsize_t nodes = arm.n_cells() * arm.xi.size();
       f.create_group(g);
       f.set_attribute(g, "index", a);
+      f.set_attribute(g, "track_stations", static_cast<long long>(arm.track_stations));
       f.write(g + "/cell_arc_length", {arm.cell_s.size()}, arm.cell_s.data());
       f.write(g + "/reference_nodes", {arm.xi.size()}, arm.xi.data());
       f.write(g + "/positions", {nodes, 3}, arm.positions.data());
@@ -291,6 +292,11 @@ ReadBody read_file(const std::string &name, const bool rebuild_geometry = true)
           {
             throw std::runtime_error("arm '" + name + "': " + e.what());
           }
+      const long long stations = f.integer_attribute(g, "track_stations");
+      if (stations < 0 || stations > 100000)
+        throw std::runtime_error("arm '" + name + "': attribute 'track_stations' = " + std::to_string(stations) +
+                                 " is not from 0 to 100000");
+      arm.track_stations = static_cast<unsigned int>(stations);
       const auto outline_shape = f.shape(g + "/section_outline");
       if (outline_shape.size() != 2 || outline_shape[1] != 2 || outline_shape[0] < 3 || outline_shape[0] > 64)
         throw std::runtime_error("arm '" + name + "': dataset 'section_outline' is not K x 2 with 3 <= K <= 64");

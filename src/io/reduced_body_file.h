@@ -15,8 +15,8 @@ namespace flextrack::io
 /// Format tag stored in the root attribute "format".
 inline const std::string reduced_body_format = "FlexTrack reduced body";
 /// 2: arms carry "geometry_parameters" (their exact curve and section frame). 3: the root
-/// attribute "content_checksum". 4: arms carry "section_outline", the drawing its point masses
-/// (for the animation's tubes and cubes). Files of other versions are refused ("reduce the body
+/// attribute "content_checksum". 4: arms carry "section_outline" and the attribute
+/// "track_stations", the drawing its point masses (for the animation's tubes and cubes). Files of other versions are refused ("reduce the body
 /// again"), so a cached body is reduced again and gains what is new.
 inline constexpr long long reduced_body_format_version = 4;
 

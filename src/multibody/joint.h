@@ -39,6 +39,8 @@ public:
   /// track, issue 25 item 4), "" if nothing.
   const std::string &note() const { return joint_note; }
   void set_note(std::string text) { joint_note = std::move(text); }
+  /// Appends a sentence to the note ("; " between sentences).
+  void add_note(const std::string &text) { joint_note += (joint_note.empty() || text.empty() ? "" : "; ") + text; }
 
   virtual unsigned int n_equations() const = 0;
   /// The bodies it touches, in a fixed order (the first is the one the reaction acts on).

@@ -213,6 +213,19 @@ ContactInput parse_contact(ParameterHandler &prm, const std::string &prefix, con
   return c;
 }
 
+/// Said when a contact slides on a flexible arm without track modes (issue 25, item 4): the
+/// moving contact force then deforms the arm only through the normal and interface modes, which
+/// miss the local deflection under the contact. Legitimate (a light slider, a stiff arm), so a
+/// note, not a refusal.
+std::string track_mode_note(const Body &carrier, const reduction::ArmModeData &arm)
+{
+  if (carrier.n_modes() == 0 || arm.track_stations > 0) return "";
+  return "arm '" + arm.name + "' of body '" + carrier.name() +
+         "' has no track modes (Reduction/Track arms of its body scene does not list it): the moving contact force "
+         "deforms it only through the normal and interface modes, which miss the deflection under the contact; list "
+         "the arm in Track arms";
+}
+
 std::unique_ptr<TrackMarker> make_track(const Body &carrier, const std::string &name, const ContactInput &c)
 {
   auto field = carrier.n_modes() ? std::make_shared<reduction::ArmModeField>(*c.arm) : nullptr;
@@ -266,6 +279,7 @@ std::unique_ptr<Joint> make_track_joint(const std::string &name, ParameterHandle
                     number_text(k.position[1]) + ", " + number_text(k.position[2]) +
                     " m): it rides on the track at that offset, as on a rigid lever; place the body there to centre it "
                     "on the track");
+  joint->add_note(track_mode_note(carrier, *contact.arm));
   return joint;
 }
 
@@ -295,7 +309,10 @@ std::unique_ptr<Joint> make_sleeve(const std::string &name, ParameterHandler &pr
                        " m): move a body or change the arc lengths");
   // Hold arm II at its initial angle to arm I: its marker axes are offset onto arm I's.
   track_1->set_axes_offset(transpose(axes_1) * axes_2);
-  return std::make_unique<TrackJoint>(name, std::move(track_1), std::move(track_2), mask, c1.sliding, c2.sliding);
+  auto joint = std::make_unique<TrackJoint>(name, std::move(track_1), std::move(track_2), mask, c1.sliding, c2.sliding);
+  joint->add_note(track_mode_note(body_1, *c1.arm));
+  joint->add_note(track_mode_note(body_2, *c2.arm));
+  return joint;
 }
 
 JointKind track_kind(const std::string &name, const std::string &doc, const JointMask mask)

@@ -428,8 +428,10 @@ void add_static_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
           is_track.push_back(false);
         }
     }
+  r.track_stations.assign(body.n_arms(), 0);
   for (const auto a : track_arms)
     {
+      r.track_stations[a] = settings.n_stations;
       const double L = body.arm_model(a).arm().curve->length();
       for (unsigned int k = 1; k <= settings.n_stations; ++k)
         for (unsigned int d = 0; d < 3; ++d)

@@ -61,6 +61,8 @@ struct ReducedBasis
   unsigned int n_normal = 0;    ///< normal modes that went in
   unsigned int n_interface = 0; ///< constraint or residual attachment vectors kept
   unsigned int n_track = 0;     ///< track load vectors kept
+  /// Per arm of the body: the stations where track loads were applied (0: not a track arm).
+  std::vector<unsigned int> track_stations;
   unsigned int n_dropped = 0;   ///< static vectors dropped as dependent
   std::vector<double> frequencies_hz() const; ///< of the reduced model, ascending
   /// Geometric stiffness of the 12 unit inertial load cases (empty unless asked for), each n x n:

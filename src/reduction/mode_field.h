@@ -43,6 +43,10 @@ struct ArmModeData
   /// The cross-section's outline for drawing: (y, z) corners [m] in the section axes (section
   /// frame y axis, tangent x y axis), counter-clockwise (fem::CrossSection::outline).
   std::vector<std::array<double, 2>> section_outline;
+  /// Stations along the arm where the reduction applied track loads (Reduction/Track arms and
+  /// Track stations); 0: the arm has no track modes, so a contact sliding on it deforms it only
+  /// through the normal and interface modes.
+  unsigned int track_stations = 0;
   unsigned int n_cells() const { return cell_s.size() - 1; }
   double length() const { return cell_s.back(); }
 };

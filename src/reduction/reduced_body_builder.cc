@@ -121,7 +121,11 @@ ReducedBody make_reduced_body(const fem::BodyModel &model, const ReducedBasis &b
         for (unsigned int c = 0; c < 6; ++c) o.modes(c, k) = full[k][p.full_dofs[c]];
       r.output_points.push_back(o);
     }
-  for (unsigned int a = 0; a < model.n_arms(); ++a) r.arms.push_back(arm_mode_data(model, a, full));
+  for (unsigned int a = 0; a < model.n_arms(); ++a)
+    {
+      r.arms.push_back(arm_mode_data(model, a, full));
+      r.arms.back().track_stations = a < basis.track_stations.size() ? basis.track_stations[a] : 0;
+    }
   for (const auto &m : model.body().point_masses)
     for (unsigned int i = 0; i < r.interfaces.size(); ++i)
       if (r.interfaces[i].name == m.interface) r.point_masses.emplace_back(i, m.mass);

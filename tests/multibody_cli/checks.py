@@ -654,5 +654,24 @@ def slider_off_its_track_is_said(exe, scene, out):
     check(len(notes) == 1 and "0.37 m" in notes[0], f"summary.json's notes say it too: {notes}")
 
 
+def contact_without_track_modes_is_said(exe, scene, out):
+    # Issue 25, item 4: a contact sliding on an arm that the reduction gave no track modes was
+    # accepted silently. prm/slider_on_helix.prm slides on the helix, whose body scene lists it in
+    # Reduction/Track arms: no note. With Track arms emptied (--set on the body scene), the log and
+    # summary.json say that the arm has no track modes; made rigid, the arm needs none.
+    shutil.rmtree(out, ignore_errors=True)
+    short = ["--set", "Multibody/End time=0.002", "--set", "Output/Animation interval=0"]
+    log = run(exe, "run", scene, "-o", out + "/with", *short).stdout
+    check("no track modes" not in log, "the helix with its track modes: no note")
+    log = run(exe, "run", scene, "-o", out + "/without", *short, "--set", "Body helix:Reduction/Track arms=").stdout
+    check("note: joint slide: arm 'helix' of body 'helix' has no track modes" in log,
+          "the log says the helix has no track modes")
+    with open(os.path.join(out, "without", "summary.json")) as f:
+        notes = json.load(f)["notes"]
+    check(len(notes) == 1 and "Track arms" in notes[0], f"summary.json's notes say it too: {notes}")
+    log = run(exe, "run", scene, "-o", out + "/rigid", *short, "--set", "Body helix:Reduction/Track arms=",
+              "--set", "Multibody/Flexible bodies rigid=true").stdout
+    check("no track modes" not in log, "the same arm made rigid: no note")
+
 if __name__ == "__main__":
     globals()[sys.argv[1]](*sys.argv[2:5])
