@@ -2,6 +2,7 @@
 #include <base/input_error.h>
 #include <io/hdf5_file.h>
 #include <io/run_results.h>
+#include <multibody/track_joint.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -49,6 +50,8 @@ RunRecorder::RunRecorder(const multibody::System &s, const std::vector<std::uniq
                          OutputFolder &folder, const double expected_rows)
   : system(s), probes(p), monitor_columns(monitor_names.size())
 {
+  for (unsigned int j = 0; j < system.n_joints(); ++j)
+    if (dynamic_cast<const multibody::TrackJoint *>(&system.joint(j))) track_joints.push_back(j);
   if (!probes.empty())
     {
       std::vector<std::string> columns{"time_s"};
@@ -61,7 +64,7 @@ RunRecorder::RunRecorder(const multibody::System &s, const std::vector<std::uniq
   for (std::size_t i = 0; i < monitor_names.size(); ++i) columns.push_back(monitor_names[i] + "_" + monitor_units[i]);
   monitor_csv = std::make_unique<IncrementalCsv>(folder, "monitors.csv", columns);
   // A block of about 4 MiB of numbers between writes of results.h5.
-  const double values_per_row = 1 + system.size() + 6.0 * system.n_joints() + monitor_names.size() + 6.0 * probes.size();
+  const double values_per_row = 1 + system.size() + 6.0 * system.n_joints() + 3.0 * track_joints.size() + monitor_names.size() + 6.0 * probes.size();
   rows_per_block = static_cast<unsigned int>(std::clamp((4 << 20) / (8 * values_per_row), 1.0, 4096.0));
   const std::string path = folder.add_file("results.h5");
   if (is_first_process()) create_hdf5(path, static_cast<unsigned long long>(std::clamp(expected_rows, 1.0, 1e9)));
@@ -105,6 +108,15 @@ void RunRecorder::create_hdf5(const std::string &path, const unsigned long long 
           f.set_attribute(g + "/force", "unit", "N");
           f.create_growing(g + "/torque", 3, expected_rows);
           f.set_attribute(g + "/torque", "unit", "N m");
+        }
+      for (const unsigned int j : track_joints)
+        {
+          const std::string d = "/reactions/" + system.joint(j).name() + "/contact_force";
+          f.create_growing(d, 3, expected_rows);
+          f.set_attribute(d, "unit", "N");
+          f.set_attribute(d, "components", "the force on body 1 in the track's frame at the contact: tangential (along "
+                                           "increasing s), normal along the section y axis, normal along the section "
+                                           "z axis (t x y)");
         }
       f.create_group("/probes");
       for (const auto &probe : probes)
@@ -186,6 +198,13 @@ void RunRecorder::record_reactions(const double t, const Vector<double> &y)
       joint.reaction(system.joint_q(j, y), system.own_q_of(j, y), t, lambda.data(), force, torque);
       for (unsigned int a = 0; a < 3; ++a) reactions.push_back(force[a]);
       for (unsigned int a = 0; a < 3; ++a) reactions.push_back(torque[a]);
+      if (std::find(track_joints.begin(), track_joints.end(), j) != track_joints.end())
+        {
+          // The track marker's axes are (d2, d3, t): tangential first, then the two normals.
+          const auto axes = static_cast<const multibody::GenericJoint &>(joint).base_axes(system.joint_q(j, y),
+                                                                                         system.own_q_of(j, y), t);
+          contact_forces.insert(contact_forces.end(), {force * axes[2], force * axes[0], force * axes[1]});
+        }
     }
 }
 
@@ -218,6 +237,13 @@ void RunRecorder::write_block()
             f.append_rows(g + "/force", n, split(reactions, nj, j, 0).data());
             f.append_rows(g + "/torque", n, split(reactions, nj, j, 3).data());
           }
+        for (std::size_t k = 0; k < track_joints.size(); ++k)
+          {
+            std::vector<double> part(3 * n);
+            for (hsize_t r = 0; r < n; ++r)
+              for (unsigned int a = 0; a < 3; ++a) part[3 * r + a] = contact_forces[(r * track_joints.size() + k) * 3 + a];
+            f.append_rows("/reactions/" + system.joint(track_joints[k]).name() + "/contact_force", n, part.data());
+          }
         for (std::size_t p = 0; p < np; ++p)
           {
             const std::string g = "/probes/" + probes[p]->name();
@@ -229,7 +255,8 @@ void RunRecorder::write_block()
       {
         throw InputError("-o / Output/Directory", std::string("cannot write 'results.h5': ") + e.what());
       }
-  for (auto *block : {&time, &coordinates, &velocities, &multipliers, &reactions, &probe_values}) block->clear();
+  for (auto *block : {&time, &coordinates, &velocities, &multipliers, &reactions, &contact_forces, &probe_values})
+    block->clear();
   for (auto &column : monitor_columns) column.clear();
 }
 

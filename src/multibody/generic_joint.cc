@@ -163,6 +163,15 @@ void GenericJoint::evaluate(const std::vector<const double *> &q, const double *
     if (rows[r].kind == RowKind::own) e.B_own(r, rows[r].a) = 1;
 }
 
+std::array<Vector3, 3> GenericJoint::base_axes(const std::vector<const double *> &q, const double *own_q,
+                                               const double t) const
+{
+  Local l;
+  Vector<double> phi, phi_t;
+  evaluate_rows(q, own_q, t, l, phi, phi_t);
+  return l.k[1].axes;
+}
+
 void GenericJoint::reaction(const std::vector<const double *> &q, const double *own_q, const double t,
                             const double *lambda, Vector3 &force, Vector3 &torque) const
 {

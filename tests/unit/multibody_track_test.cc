@@ -602,13 +602,14 @@ namespace
 struct RecordedReactions
 {
   std::vector<double> time;
-  std::map<std::string, std::vector<double>> force, torque;
+  std::map<std::string, std::vector<double>> force, torque, contact_force; ///< contact_force: track joints only
   Vector3 at(const std::vector<double> &rows, const unsigned int r) const
   {
     return Vector3({rows[3 * r], rows[3 * r + 1], rows[3 * r + 2]});
   }
   Vector3 force_of(const std::string &joint, const unsigned int r) const { return at(force.at(joint), r); }
   Vector3 torque_of(const std::string &joint, const unsigned int r) const { return at(torque.at(joint), r); }
+  Vector3 contact_force_of(const std::string &joint, const unsigned int r) const { return at(contact_force.at(joint), r); }
 };
 
 /// Runs the finalised @p s with IDA (rtol 1e-10) from consistent initial conditions at t = 0 to
@@ -647,6 +648,7 @@ RecordedReactions record_reactions(System &s, const double t_end, const double i
         const std::string g = "/reactions/" + s.joint(j).name();
         r.force[s.joint(j).name()] = f.read_doubles(g + "/force", {n, 3});
         r.torque[s.joint(j).name()] = f.read_doubles(g + "/torque", {n, 3});
+        if (f.exists(g + "/contact_force")) r.contact_force[s.joint(j).name()] = f.read_doubles(g + "/contact_force", {n, 3});
       }
   }
   std::filesystem::remove_all(folder);
@@ -744,6 +746,8 @@ TEST(MultibodyTrack, reaction_of_a_bead_driven_round_a_circular_track_is_m_v2_ov
   // m g R (torques), as the other closed forms of track contacts here: on a curved track the
   // multipliers carry the noise of IDA's Newton iterations (they are excluded from its error test;
   // measured up to 7.1e-7 N on the bead, 2e-8 N on the bob; 2.5e-11 N at t = 0, a direct solve).
+  // In the track's contact frame (/reactions/ring/contact_force: tangential, along the section y
+  // axis, here z^ (fixed vector), along t x y = r^) the same force reads (0, m g, -m v^2 / R).
   const double g = 9.81, m = 0.5, v = 1.5, R = 0.8, s0 = 0.2, p0 = s0 / R;
   System s(Vector3({0, 0, -g}));
   const auto circle = helix(R, 0.0, 0.5); // (R cos p, R sin p, 0), 0 <= p <= pi
@@ -769,6 +773,7 @@ TEST(MultibodyTrack, reaction_of_a_bead_driven_round_a_circular_track_is_m_v2_ov
       worst_torque = std::max(
         {worst_torque, difference(r.torque_of("ring", i), Vector3()), difference(r.torque_of("pivot", i), T_pivot)});
       worst_radial = std::max(worst_radial, std::abs(-(r.force_of("ring", i) * radial) - m * v * v / R));
+      worst_force = std::max(worst_force, difference(r.contact_force_of("ring", i), Vector3({0, m * g, -m * v * v / R})));
       EXPECT_LT(difference(r.force_of("ring", i), r.force_of("pivot", i)), 1e-6 * m * g)
         << "t = " << r.time[i] << " s: track and revolute joint";
     }
