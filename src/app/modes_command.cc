@@ -108,6 +108,18 @@ io::ArmScene read_scene(const io::SceneFile &file, ParameterHandler &prm, TimerO
   return io::read_arm_scene(file, prm);
 }
 
+/// An arm with every support free (the default since issue 25, item 5) is analysed free-free:
+/// said, since a cantilever written for the old default now shows six rigid-body modes first.
+std::string unsupported_arm_note(const io::ArmScene &scene)
+{
+  if (scene.is_solid) return "";
+  for (const auto &s : scene.arm.supports)
+    if (s.kind != fem::SupportKind::free) return "";
+  return "  note: the arm has no support (Arm/Supports: every support free, the default), so it is analysed free-free: "
+         "its first six modes are rigid-body motions at near-zero frequency. A cantilever says 'Arm/Supports/Start = "
+         "clamped'\n";
+}
+
 std::string describe(const io::ArmScene &scene)
 {
   std::ostringstream d;
@@ -226,7 +238,8 @@ int modes_command(const Options &options, const io::SceneFile &file)
   auto &timer = clock.timer;
   ParameterHandler prm;
   const io::ArmScene scene = read_scene(file, prm, timer);
-  std::cout << "flextrack modes: " << options.file << "\n  " << describe(scene) << std::endl;
+  std::cout << "flextrack modes: " << options.file << "\n  " << describe(scene) << std::endl
+            << unsupported_arm_note(scene);
 
   Model model;
   const ModalRun run = analyse(scene, 0, timer, &model);
@@ -301,7 +314,8 @@ int converge_command(const Options &options, const io::SceneFile &file)
       throw e.in_file(options.file);
     }
   std::cout << "flextrack converge: " << options.file << ", " << K << " refinements of\n  " << describe(scene)
-            << std::endl;
+            << std::endl
+            << unsupported_arm_note(scene);
 
   std::vector<ModalRun> levels;
   std::vector<double> level_times;

@@ -120,6 +120,8 @@ io::JsonObject initial_conditions_json(const multibody::InitialConditionReport &
         .add("largest_load", e.load_scale)
         .add("position_residual", e.position_residual)
         .raw("stable", e.stable ? "true" : "false")
+        .add("unstable_modes", e.unstable_modes)
+        .add("growth_rate_per_s", e.growth_rate)
         .raw("moves", moves + "]");
       j.raw("static_equilibrium", eq.str(4));
     }
@@ -223,8 +225,13 @@ int run_command(const Options &options, const io::SceneFile &file)
   for (unsigned int i = 0; i < system.n_q(); ++i) largest_coordinate = std::max(largest_coordinate, std::abs(y[i]));
   const double position_yardstick =
     integrator_settings.absolute_tolerance + integrator_settings.relative_tolerance * largest_coordinate;
-  const double velocity_yardstick = integrator_settings.velocity_tolerance > 0 ? integrator_settings.velocity_tolerance
-                                                                               : integrator_settings.absolute_tolerance;
+  // 'auto' sets one tolerance per velocity (the modal ones scaled by their frequencies): the
+  // yardstick is the largest of the frames' (the constraint rows measure frame velocities).
+  double velocity_yardstick = 0;
+  for (unsigned int b = 1; b < system.n_bodies(); ++b)
+    for (unsigned int a = 0; a < std::min(6u, system.body(b).n_v()); ++a)
+      velocity_yardstick = std::max(velocity_yardstick, integrator_settings.velocity_tolerance_of(system.v_offset(b) + a));
+  if (velocity_yardstick == 0) velocity_yardstick = integrator_settings.absolute_tolerance;
   const auto owned_integrator = multibody::make_integrator(system, integrator_settings);
   auto &integrator = *owned_integrator;
   multibody::Monitors monitors(system);
@@ -368,7 +375,7 @@ int run_command(const Options &options, const io::SceneFile &file)
             << stats.jacobian_evaluations << " Jacobians\n  largest over the output rows: |Phi| " << std::setprecision(3)
             << recorder.max_position_residual << " m or rad (position tolerance " << position_yardstick
             << " m = atol + rtol x largest coordinate), |dPhi/dt| " << recorder.max_velocity_residual
-            << " m/s or rad/s (velocity tolerance " << velocity_yardstick << "), ||p|-1| "
+            << " m/s or rad/s (velocity tolerance of the frames " << velocity_yardstick << "), ||p|-1| "
             << recorder.max_normalisation_drift << ", energy balance error " << recorder.max_balance_error
             << " of the energy scale (largest |kinetic| or |potential| energy so far)\n";
   print_timings(clock);

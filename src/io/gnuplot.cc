@@ -120,6 +120,7 @@ std::string run_plot_script(const std::string &title, const std::vector<std::str
     }
   gp << "set title 'energy'\nset ylabel 'energy, work [J]'\nplot 'monitors.csv' using 1:5 with lines lw 2 title "
         "'kinetic', '' using 1:6 with lines lw 2 title 'gravity', '' using 1:7 with lines lw 2 title 'strain', '' "
+        "using 1:8 with lines lw 2 title 'springs', '' "
         "using 1:($9+$10) with lines lw 2 title 'work of loads and drivers', '' using 1:11 with lines lw 2 title "
         "'dissipated'\n"
      << "set logscale y\nset format y '%.0e'\nset title 'energy balance error (of the energy scale)'\n"

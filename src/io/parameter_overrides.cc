@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <regex>
 #include <sstream>
 
 namespace flextrack::io
@@ -137,6 +138,21 @@ std::string hint_text(const std::vector<std::string> &names)
 }
 } // namespace
 
+std::string explained_pattern_mismatch(const std::string &message)
+{
+  std::smatch m;
+  if (!std::regex_search(message, m, std::regex(R"(The entry value (.*) for the entry named (.*) does not match the given pattern: \[(.*) \])")))
+    return "";
+  const std::string value = m[1], entry = m[2], pattern = m[3];
+  if (pattern.rfind("Selection ", 0) == 0)
+    {
+      std::string allowed = pattern.substr(10);
+      for (std::size_t i = 0; (i = allowed.find('|', i)) != std::string::npos;) allowed.replace(i, 1, ", ");
+      return "entry '" + entry + "' is '" + value + "'; allowed: " + allowed;
+    }
+  return "entry '" + entry + "' is '" + value + "', which is not " + (pattern == "Bool" ? "true or false" : "a " + pattern);
+}
+
 ParameterOverride parse_override(const std::string &text)
 {
   const auto fail = [&](const std::string &why) {
@@ -199,8 +215,9 @@ void apply_overrides(dealii::ParameterHandler &prm, const std::vector<ParameterO
         }
       catch (const dealii::ExceptionBase &e)
         {
+          const std::string message = base::parse_error_text(e), explained = explained_pattern_mismatch(message);
           throw InputError("--set", "'" + base::printable_excerpt(o.text(), 200) + "': " +
-                                      base::printable_excerpt(base::parse_error_text(e), 400));
+                                      base::printable_excerpt(explained.empty() ? message : explained, 400));
         }
     }
 }

@@ -34,6 +34,11 @@ ParameterOverride parse_override(const std::string &text);
 void apply_overrides(dealii::ParameterHandler &prm, const std::vector<ParameterOverride> &overrides,
                      const std::string &scope, bool skip_undefined);
 
+/// deal.II's "The entry value V for the entry named E does not match the given pattern: [P]" as
+/// "entry 'E' is 'V'; allowed: a, b, c" for a selection, "entry 'E' is 'V', which is not P" for
+/// another pattern; empty if @p message is not such a mismatch (issue 25, item 6).
+std::string explained_pattern_mismatch(const std::string &message);
+
 /// Sets every input-file entry of @p prm (declared with Patterns::FileName: a body scene, a mesh,
 /// a spline's points) that holds a relative path to the absolute path it names from
 /// @p directory (the scene file's folder), so that parameters_used.prm runs from any folder.

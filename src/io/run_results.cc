@@ -116,7 +116,8 @@ void RunRecorder::create_hdf5(const std::string &path, const unsigned long long 
           f.set_attribute(d, "unit", "N");
           f.set_attribute(d, "components", "the force on body 1 in the track's frame at the contact: tangential (along "
                                            "increasing s), normal along the section y axis, normal along the section "
-                                           "z axis (t x y)");
+                                           "z axis (t x y); of a double_arm_sleeve the frame of its contact on body "
+                                           "2's arm");
         }
       f.create_group("/probes");
       for (const auto &probe : probes)
@@ -140,7 +141,10 @@ void RunRecorder::create_hdf5(const std::string &path, const unsigned long long 
 
 double RunRecorder::bytes_per_row(const multibody::System &system, const std::size_t n_probes)
 {
-  const double kept = 1 + system.size() + 6.0 * system.n_joints() + monitor_names.size() + 6.0 * n_probes;
+  unsigned int track_joints = 0; // each writes its contact force too
+  for (unsigned int j = 0; j < system.n_joints(); ++j)
+    track_joints += dynamic_cast<const multibody::TrackJoint *>(&system.joint(j)) != nullptr;
+  const double kept = 1 + system.size() + 6.0 * system.n_joints() + 3.0 * track_joints + monitor_names.size() + 6.0 * n_probes;
   const double text = 2 + monitor_names.size() + 6.0 * n_probes;
   return 8 * kept + 20 * text;
 }

@@ -237,15 +237,7 @@ std::string explained_parse_error(const std::string &message, const std::string 
       const std::string name = base::trim(m[1]);
       return where + ": there is no subsection '" + base::printable_excerpt(name, 80) + "'" + nearest_declared_hint(prm, path, name);
     }
-  if (std::regex_search(message, m, std::regex(R"(for the entry named (.*) does not match the given pattern: \[Selection (.*) \])")))
-    {
-      std::string allowed = m[2];
-      for (std::size_t i = 0; (i = allowed.find('|', i)) != std::string::npos;) allowed.replace(i, 1, ", ");
-      const std::size_t value_at = message.find("The entry value ");
-      const std::string value =
-        value_at == std::string::npos ? "" : message.substr(value_at + 16, message.find(" for the entry named") - value_at - 16);
-      return where + ": entry '" + std::string(m[1]) + "' is '" + value + "'; allowed: " + allowed;
-    }
+  if (const std::string explained = explained_pattern_mismatch(message); !explained.empty()) return where + ": " + explained;
   return message;
 }
 } // namespace

@@ -428,10 +428,9 @@ void add_static_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
           is_track.push_back(false);
         }
     }
-  r.track_stations.assign(body.n_arms(), 0);
+  std::vector<int> track_arm_of_load(loads.size(), -1); // the arm of each track load, -1 for the others
   for (const auto a : track_arms)
     {
-      r.track_stations[a] = settings.n_stations;
       const double L = body.arm_model(a).arm().curve->length();
       for (unsigned int k = 1; k <= settings.n_stations; ++k)
         for (unsigned int d = 0; d < 3; ++d)
@@ -440,17 +439,22 @@ void add_static_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
             loads.push_back(relieve ? inertia_relief(f, R) : f);
             prescribed.push_back(-1);
             is_track.push_back(true);
+            track_arm_of_load.push_back(static_cast<int>(a));
           }
     }
   auto responses = anchored.solve_many(loads);
   loads.clear();
+  r.track_stations.assign(body.n_arms(), 0); // Track stations of an arm with a track vector kept
   for (unsigned int i = 0; i < responses.size(); ++i)
     {
       if (prescribed[i] >= 0) responses[i][prescribed[i]] = 1;
       if (!basis.append(std::move(responses[i]), R, body.mass_matrix()))
         ++r.n_dropped;
       else if (is_track[i])
-        ++r.n_track;
+        {
+          ++r.n_track;
+          r.track_stations[track_arm_of_load[i]] = settings.n_stations;
+        }
       else
         ++r.n_interface;
     }

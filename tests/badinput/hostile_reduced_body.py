@@ -118,6 +118,20 @@ cases = {
     "geometry_text_9_MiB": (geometry_text("#" * (9 << 20)), "'/arms/boom/geometry_parameters' is a string of 9437184"),
     "geometry_text_not_a_parameter_file": (geometry_text("\x7fELF binary junk \xff\xfe"),
                                            "arm 'boom': .*(not a curve|character code)"),
+    # Format 4 (issue 25, items 4 and 13): section outlines, track stations, point masses.
+    "section_outline_of_two_corners": (lambda f: replace_dataset(f, "/arms/boom/section_outline", np.zeros((2, 2))),
+                                       "arm 'boom': dataset 'section_outline' is not K x 2 with 3 <= K <= 64"),
+    "section_outline_nan": (fill("/arms/boom/section_outline", np.nan),
+                            "'/arms/boom/section_outline' holds a non-finite value"),
+    "section_outline_corner_2_km": (fill("/arms/boom/section_outline", 2000.0),
+                                    "arm 'boom': 'section_outline' holds a corner beyond 1000 m"),
+    "track_stations_minus_1": (lambda f: replace_attribute(f, "/arms/boom", "track_stations", np.int64(-1)),
+                               "arm 'boom': attribute 'track_stations' = -1 is not from 0 to 100000"),
+    "track_stations_missing": (lambda f: f["/arms/boom"].attrs.__delitem__("track_stations"), "track_stations"),
+    "point_mass_at_a_missing_interface": (fill("/drawing/point_mass_interfaces", 7),
+                                          "'/drawing/point_mass_interfaces' refers to a missing interface"),
+    "point_mass_negative": (fill("/drawing/point_masses", -1.0),
+                            "'/drawing/point_masses' holds a mass that is not in \\(0, 1e12\\) kg"),
 }
 
 
