@@ -35,6 +35,8 @@ flextrack_multibody_check(run_slider_off_its_track_is_said slider_off_its_track_
                           ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_on_arc.prm)
 flextrack_multibody_check(run_contact_on_arm_without_track_modes_is_said contact_without_track_modes_is_said
                           ${CMAKE_SOURCE_DIR}/prm/slider_on_helix.prm)
+flextrack_multibody_check(run_end_stop_on_flexible_arm_with_generalized_alpha end_stop_on_flexible_arm_with_generalized_alpha
+                          ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_end_stops.prm)
 flextrack_multibody_check(run_passage_timed_to_the_end_time_completes passage_ends_at_end_time
                           ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_on_arc.prm)
 flextrack_multibody_check(run_energy_balance_stays_small_at_turning_points energy_balance_at_turning_points

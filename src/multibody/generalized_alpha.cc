@@ -200,7 +200,21 @@ double GeneralizedAlphaIntegrator::integrate(const double t_end, const double ou
       // Attempt, shrinking on failure (adaptive) or failing (fixed step)
       for (;;)
         {
-          const bool converged = attempt_step(h);
+          // A residual that cannot be evaluated at the trial state (a contact pushed beyond its
+          // track's overrun by a too large step) is a failed attempt, as IDA takes it: smaller
+          // steps (adaptive), or a solver failure that says why (fixed step).
+          bool converged = false;
+          try
+            {
+              converged = attempt_step(h);
+              last_problem.clear();
+            }
+          catch (const std::exception &e)
+            {
+              last_problem = e.what();
+              ++stats.nonlinear_convergence_failures;
+              matrix_c = -1;
+            }
           if (converged)
             {
               if (!settings.adaptive_step) break;
@@ -215,7 +229,9 @@ double GeneralizedAlphaIntegrator::integrate(const double t_end, const double ou
               h *= std::max(factor, 0.2);
             }
           else if (!settings.adaptive_step)
-            fail("Newton did not converge with a fresh matrix", h);
+            fail(last_problem.empty() ? "Newton did not converge with a fresh matrix"
+                                      : "the equations cannot be evaluated at the step's end: " + last_problem,
+                 h);
           else
             h *= 0.25;
           if (h < smallest_step) fail("the step fell below 1e-12 s", h);
@@ -304,14 +320,25 @@ void GeneralizedAlphaIntegrator::interpolate(const double t, State &yo, State &y
 void GeneralizedAlphaIntegrator::fail(const std::string &what, const double h, const std::string &advice) const
 {
   State F;
-  system.residual(t_now + h, y_new.size() ? y_new : y, yp_new.size() ? yp_new : yp, F);
-  unsigned int worst = 0;
-  for (unsigned int i = 0; i < F.size(); ++i)
-    if (!(std::abs(F[i]) <= std::abs(F[worst]))) worst = i;
+  std::string largest;
+  try
+    {
+      system.residual(t_now + h, y_new.size() ? y_new : y, yp_new.size() ? yp_new : yp, F);
+      unsigned int worst = 0;
+      for (unsigned int i = 0; i < F.size(); ++i)
+        if (!(std::abs(F[i]) <= std::abs(F[worst]))) worst = i;
+      std::ostringstream r;
+      r << "Largest residual: " << system.component_name(worst) << " (" << F[worst] << ")";
+      largest = r.str();
+    }
+  catch (const std::exception &e)
+    {
+      largest = std::string("The residual cannot be evaluated there (") + e.what() + ")";
+    }
   std::ostringstream s;
   s << std::setprecision(6) << "the time integration (generalised-alpha, rho_inf " << settings.spectral_radius
     << ") failed at t = " << t_now << " s, step " << std::setprecision(3) << h << " s: " << what
-    << ". Largest residual: " << system.component_name(worst) << " (" << F[worst] << "). What to change: "
+    << ". " << largest << ". What to change: "
     << (!advice.empty()           ? advice
         : settings.adaptive_step ? "look for a singular configuration near that time, or loosen the tolerances"
                                  : "set a smaller 'Step', or 'Adaptive step' = true");

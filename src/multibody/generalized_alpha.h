@@ -68,6 +68,9 @@ private:
   double h_next = 0;
   double matrix_c = -1;           ///< c of the factorised matrix; < 0: none
   bool matrix_fresh = false;      ///< factorised at the current step's first iterate
+  /// Why the last attempt could not evaluate the equations (a contact pushed off its track by a
+  /// too large step), as IDA's recoverable residual failure; empty if it could.
+  std::string last_problem;
 
   RootFunction root_function;
   unsigned int n_roots = 0;
