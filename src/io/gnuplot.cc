@@ -135,30 +135,36 @@ std::string run_plot_script(const std::string &title, const std::vector<std::str
 std::string sweep_plot_script(const std::string &title, const std::vector<std::string> &parameters,
                               const std::vector<std::string> &quantities)
 {
-  // Columns of sweep.csv: 1 case, 2 ... 1 + P the parameters, then the quantities.
-  const std::size_t first = 2 + parameters.size();
+  // Columns of sweep.csv: 1 case, 2 ... 1 + P the parameters, then the quantities, then status.
+  // A case that did not complete has no quantities: it is marked with a red cross (on the x
+  // axis of each panel, or at its place on the map), so that a gap in a curve is explained.
+  const std::size_t first = 2 + parameters.size(), status = first + quantities.size();
+  const std::string not_completed = "(strcol(" + std::to_string(status) + ") eq 'completed' ? NaN : ";
   std::ostringstream gp;
   gp << "# gnuplot script written by flextrack sweep: sweep.png\n";
   if (parameters.size() == 1)
     {
       const std::size_t panels = std::min<std::size_t>(4, quantities.size());
       gp << png_preamble("sweep.png", "900," + std::to_string(120 + 260 * panels))
-         << "set datafile separator ','\nset grid\nset key off\n"
+         << "set datafile separator ','\nset grid\nset key top right\nset y2range [0:1]\nunset y2tics\n"
          << "set multiplot layout " << panels << ",1 title " << gnuplot_string(title) << "\n"
          << "set xlabel " << gnuplot_string(parameters[0]) << "\n";
       for (std::size_t k = 0; k < panels; ++k)
         gp << "set ylabel " << gnuplot_string(quantities[k]) << "\nplot 'sweep.csv' using 2:" << first + k
-           << " with linespoints pt 7 lw 2\n";
+           << " with linespoints pt 7 lw 2 notitle, '' using 2:" << not_completed
+           << "0.03) axes x1y2 with points pt 2 ps 2 lw 2 lc 'red' title 'case not completed'\n";
       gp << "unset multiplot\n";
     }
   else
-    gp << png_preamble("sweep.png", "900,700") << "set datafile separator ','\nset grid\nset key off\n"
+    gp << png_preamble("sweep.png", "900,700") << "set datafile separator ','\nset grid\nset key below\n"
        << "set title " << gnuplot_string(title + ": " + quantities.at(0)) << "\n"
        << "set xlabel " << gnuplot_string(parameters[0]) << "\nset ylabel " << gnuplot_string(parameters[1]) << "\n"
        << "set cblabel " << gnuplot_string(quantities[0]) << "\nset palette rgbformulae 33,13,10\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n"
        << "set format cb '%.4g'\nset rmargin at screen 0.8\n"
-       << "plot 'sweep.csv' using 2:3:" << first << " with points pt 5 ps 5 palette, '' using 2:3:(sprintf('%.4g', column("
-       << first << "))) with labels offset 0,1.6 font ',9'\n";
+       << "plot 'sweep.csv' using 2:3:" << first << " with points pt 5 ps 5 palette notitle, '' using 2:3:(strcol(" << status
+       << ") eq 'completed' ? sprintf('%.4g', column(" << first << ")) : strcol(" << status
+       << ")) with labels offset 0,1.6 font ',9' notitle, '' using 2:" << not_completed
+       << "$3) with points pt 2 ps 4 lw 3 lc 'black' title 'case not completed'\n";
   return gp.str();
 }
 
