@@ -97,6 +97,19 @@ double extent(const std::vector<Point<3>> &points)
 }
 
 constexpr double steel_density = 7850; // [kg/m^3], the cube a point mass is drawn as
+
+/// Sides of the box of equal mass and principal moments, a_i = sqrt(6 (J_j + J_k - J_i) / m).
+std::array<double, 3> inertia_box_sides(const reduction::InertiaInvariants &inv)
+{
+  const auto J = inv.inertia_about_centre_of_mass();
+  std::array<double, 3> side;
+  for (unsigned int i = 0; i < 3; ++i)
+    {
+      const unsigned int j = (i + 1) % 3, k = (i + 2) % 3;
+      side[i] = std::sqrt(std::max(6 * (J[j][j] + J[k][k] - J[i][i]) / inv.mass, 0.0));
+    }
+  return side;
+}
 } // namespace
 
 AnimationWriter::AnimationWriter(const multibody::System &s) : system(s)
@@ -116,15 +129,7 @@ AnimationWriter::AnimationWriter(const multibody::System &s) : system(s)
     }
   for (unsigned int b = 1; b < system.n_bodies(); ++b)
     if (bodies[b] && !(bodies[b]->source() && !bodies[b]->source()->points.empty()))
-      {
-        const auto &inv = bodies[b]->invariants();
-        const auto J = inv.inertia_about_centre_of_mass();
-        for (unsigned int i = 0; i < 3; ++i)
-          {
-            const unsigned int j = (i + 1) % 3, k = (i + 2) % 3;
-            scale = std::max(scale, std::sqrt(std::max(6 * (J[j][j] + J[k][k] - J[i][i]) / inv.mass, 0.0)));
-          }
-      }
+      for (const double side : inertia_box_sides(bodies[b]->invariants())) scale = std::max(scale, side);
   min_side = std::max({0.03 * scale, 2 * largest_section, 1e-6});
   for (unsigned int b = 1; b < system.n_bodies(); ++b)
     {
@@ -158,15 +163,9 @@ AnimationWriter::AnimationWriter(const multibody::System &s) : system(s)
         }
       else
         {
-          const auto &inv = body.invariants();
-          const auto J = inv.inertia_about_centre_of_mass();
-          std::array<double, 3> side;
-          for (unsigned int i = 0; i < 3; ++i)
-            {
-              const unsigned int j = (i + 1) % 3, k = (i + 2) % 3;
-              side[i] = std::max(std::sqrt(std::max(6 * (J[j][j] + J[k][k] - J[i][i]) / inv.mass, 0.0)), min_side);
-            }
-          add_box(d, inv.centre_of_mass(), side, nullptr);
+          auto side = inertia_box_sides(body.invariants());
+          for (double &s : side) s = std::max(s, min_side);
+          add_box(d, body.invariants().centre_of_mass(), side, nullptr);
           std::ostringstream what;
           what << std::setprecision(3) << "box " << side[0] << " x " << side[1] << " x " << side[2] << " m";
           d.what = what.str();
@@ -181,6 +180,25 @@ std::string AnimationWriter::description() const
   for (const auto &d : drawings)
     s << "    " << d.body << " " << system.body(d.body).name() << ": " << d.what << "\n";
   return s.str();
+}
+
+void AnimationWriter::append_point_modes(Drawing &d, const unsigned int first, const unsigned int n,
+                                         const std::function<Vector3(unsigned int k, unsigned int i)> &mode) const
+{
+  // point_modes is ordered (k P + i) 3 + d: with P grown, every mode's block moves.
+  const unsigned int P = d.points.size();
+  std::vector<double> grown(n * P * 3, 0.0);
+  for (unsigned int k = 0; k < n; ++k)
+    {
+      for (unsigned int i = 0; i < first; ++i)
+        for (unsigned int a = 0; a < 3; ++a) grown[(k * P + i) * 3 + a] = d.point_modes[(k * first + i) * 3 + a];
+      for (unsigned int i = first; i < P; ++i)
+        {
+          const Vector3 m = mode(k, i);
+          for (unsigned int a = 0; a < 3; ++a) grown[(k * P + i) * 3 + a] = m[a];
+        }
+    }
+  d.point_modes = std::move(grown);
 }
 
 void AnimationWriter::add_box(Drawing &d, const Point<3> &centre, const std::array<double, 3> sides,
@@ -203,24 +221,15 @@ void AnimationWriter::add_box(Drawing &d, const Point<3> &centre, const std::arr
       d.types.push_back(vtk_quad);
     }
   if (d.point_modes.empty() && n == 0) return;
-  // Mode shapes of the new corners: the point's translation plus its rotation times the offset.
-  const unsigned int P_old = first, P = d.points.size();
-  const unsigned int n_all = d.point_modes.empty() ? n : d.point_modes.size() / (3 * P_old);
-  std::vector<double> grown(n_all * P * 3, 0.0);
-  for (unsigned int k = 0; k < n_all; ++k)
-    {
-      for (unsigned int i = 0; i < P_old; ++i)
-        for (unsigned int a = 0; a < 3; ++a) grown[(k * P + i) * 3 + a] = d.point_modes[(k * P_old + i) * 3 + a];
-      if (!modes || k >= n) continue;
-      const Vector3 u = vec((*modes)(0, k), (*modes)(1, k), (*modes)(2, k));
-      const Vector3 theta = vec((*modes)(3, k), (*modes)(4, k), (*modes)(5, k));
-      for (unsigned int i = P_old; i < P; ++i)
-        {
-          const Vector3 m = u + dealii::cross_product_3d(theta, d.points[i] - centre);
-          for (unsigned int a = 0; a < 3; ++a) grown[(k * P + i) * 3 + a] = m[a];
-        }
-    }
-  d.point_modes = std::move(grown);
+  // Mode shapes of the new corners: the point's translation plus its rotation times the offset
+  // (none for a box on a body drawn with modes by its other parts).
+  const unsigned int n_all = d.point_modes.empty() ? n : d.point_modes.size() / (3 * first);
+  append_point_modes(d, first, n_all, [&](const unsigned int k, const unsigned int i) {
+    if (!modes || k >= n) return Vector3();
+    const Vector3 u = vec((*modes)(0, k), (*modes)(1, k), (*modes)(2, k));
+    const Vector3 theta = vec((*modes)(3, k), (*modes)(4, k), (*modes)(5, k));
+    return Vector3(u + dealii::cross_product_3d(theta, d.points[i] - centre));
+  });
 }
 
 void AnimationWriter::add_surface(Drawing &d, const reduction::ReducedBody &reduced, const bool with_modes) const
@@ -315,24 +324,11 @@ void AnimationWriter::add_tube(Drawing &d, const reduction::ArmModeData &arm, co
 
   if (!with_modes) return;
   // A ring follows its node: translation u plus the section's rotation theta times the offset.
-  const unsigned int P_old = first, P = d.points.size();
-  std::vector<double> grown(n * P * 3, 0.0);
-  for (unsigned int k = 0; k < n; ++k)
-    {
-      for (unsigned int i = 0; i < P_old; ++i)
-        for (unsigned int a = 0; a < 3; ++a) grown[(k * P + i) * 3 + a] = d.point_modes[(k * P_old + i) * 3 + a];
-      for (unsigned int i = 0; i < rings; ++i)
-        {
-          const double *v = &arm.values[(nodes[i] * n + k) * 6];
-          const Vector3 u = vec(v[0], v[1], v[2]), theta = vec(v[3], v[4], v[5]);
-          for (unsigned int c = 0; c < K; ++c)
-            {
-              const Vector3 m = u + dealii::cross_product_3d(theta, offsets[i * K + c]);
-              for (unsigned int a = 0; a < 3; ++a) grown[(k * P + first + i * K + c) * 3 + a] = m[a];
-            }
-        }
-    }
-  d.point_modes = std::move(grown);
+  append_point_modes(d, first, n, [&](const unsigned int k, const unsigned int p) {
+    const unsigned int ring = (p - first) / K;
+    const double *v = &arm.values[(nodes[ring] * n + k) * 6];
+    return Vector3(vec(v[0], v[1], v[2]) + dealii::cross_product_3d(vec(v[3], v[4], v[5]), offsets[p - first]));
+  });
 }
 
 void AnimationWriter::add_frame(const double t, const dealii::Vector<double> &y, OutputFolder &folder)

@@ -25,6 +25,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,10 @@ private:
     std::vector<unsigned char> types;             ///< VTK cell types
     std::string what;                             ///< for the log
   };
+  /// Grows d.point_modes for the points from @p first on (added to d.points), @p n modes, the
+  /// new points' translations given by @p mode(k, point).
+  void append_point_modes(Drawing &d, unsigned int first, unsigned int n,
+                          const std::function<multibody::Vector3(unsigned int k, unsigned int i)> &mode) const;
   void add_surface(Drawing &d, const reduction::ReducedBody &reduced, bool with_modes) const;
   void add_tube(Drawing &d, const reduction::ArmModeData &arm, unsigned int n_modes, bool with_modes) const;
   /// A box of @p sides along the body axes centred at @p centre; with @p modes (6 x n: the

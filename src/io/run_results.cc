@@ -19,6 +19,15 @@ const std::vector<std::string> monitor_names = {
   "strain_energy", "spring_energy", "work_applied", "work_drivers", "dissipated", "energy_balance_error"};
 const std::vector<std::string> monitor_units = {"m_or_rad", "m_per_s_or_rad_per_s", "1", "J", "J", "J", "J", "J", "J", "J", "1"};
 
+/// The joints that slide on a track (each writes its contact force).
+std::vector<unsigned int> track_joint_indices(const multibody::System &system)
+{
+  std::vector<unsigned int> indices;
+  for (unsigned int j = 0; j < system.n_joints(); ++j)
+    if (dynamic_cast<const multibody::TrackJoint *>(&system.joint(j))) indices.push_back(j);
+  return indices;
+}
+
 std::vector<double> monitor_row(const multibody::MonitorValues &m, const double balance_error)
 {
   return {m.position_residual, m.velocity_residual, m.normalisation_drift, m.kinetic, m.gravity, m.strain,
@@ -48,10 +57,8 @@ void IncrementalCsv::add_row(const std::vector<double> &values)
 
 RunRecorder::RunRecorder(const multibody::System &s, const std::vector<std::unique_ptr<multibody::Probe>> &p,
                          OutputFolder &folder, const double expected_rows)
-  : system(s), probes(p), monitor_columns(monitor_names.size())
+  : system(s), probes(p), track_joints(track_joint_indices(s)), monitor_columns(monitor_names.size())
 {
-  for (unsigned int j = 0; j < system.n_joints(); ++j)
-    if (dynamic_cast<const multibody::TrackJoint *>(&system.joint(j))) track_joints.push_back(j);
   if (!probes.empty())
     {
       std::vector<std::string> columns{"time_s"};
@@ -141,10 +148,8 @@ void RunRecorder::create_hdf5(const std::string &path, const unsigned long long 
 
 double RunRecorder::bytes_per_row(const multibody::System &system, const std::size_t n_probes)
 {
-  unsigned int track_joints = 0; // each writes its contact force too
-  for (unsigned int j = 0; j < system.n_joints(); ++j)
-    track_joints += dynamic_cast<const multibody::TrackJoint *>(&system.joint(j)) != nullptr;
-  const double kept = 1 + system.size() + 6.0 * system.n_joints() + 3.0 * track_joints + monitor_names.size() + 6.0 * n_probes;
+  const double kept = 1 + system.size() + 6.0 * system.n_joints() + 3.0 * track_joint_indices(system).size() +
+                      monitor_names.size() + 6.0 * n_probes; // a track joint writes its contact force too
   const double text = 2 + monitor_names.size() + 6.0 * n_probes;
   return 8 * kept + 20 * text;
 }
@@ -199,16 +204,18 @@ void RunRecorder::record_reactions(const double t, const Vector<double> &y)
       const auto &active = system.active_equations(j);
       for (unsigned int r = 0; r < active.size(); ++r) lambda[active[r]] = y[l0 + system.multiplier_offset(j) + r];
       multibody::Vector3 force, torque;
-      joint.reaction(system.joint_q(j, y), system.own_q_of(j, y), t, lambda.data(), force, torque);
-      for (unsigned int a = 0; a < 3; ++a) reactions.push_back(force[a]);
-      for (unsigned int a = 0; a < 3; ++a) reactions.push_back(torque[a]);
       if (std::find(track_joints.begin(), track_joints.end(), j) != track_joints.end())
         {
           // The track marker's axes are (d2, d3, t): tangential first, then the two normals.
-          const auto axes = static_cast<const multibody::GenericJoint &>(joint).base_axes(system.joint_q(j, y),
-                                                                                         system.own_q_of(j, y), t);
+          std::array<multibody::Vector3, 3> axes;
+          static_cast<const multibody::GenericJoint &>(joint).reaction(system.joint_q(j, y), system.own_q_of(j, y), t,
+                                                                       lambda.data(), force, torque, axes);
           contact_forces.insert(contact_forces.end(), {force * axes[2], force * axes[0], force * axes[1]});
         }
+      else
+        joint.reaction(system.joint_q(j, y), system.own_q_of(j, y), t, lambda.data(), force, torque);
+      for (unsigned int a = 0; a < 3; ++a) reactions.push_back(force[a]);
+      for (unsigned int a = 0; a < 3; ++a) reactions.push_back(torque[a]);
     }
 }
 

@@ -72,7 +72,7 @@ private:
   std::vector<double> time, coordinates, velocities, multipliers, reactions;
   /// Track joints (indices) and, per row and track joint, the force on body 1 in the track's
   /// contact frame: tangential, normal along the section y axis, normal along the section z axis.
-  std::vector<unsigned int> track_joints;
+  const std::vector<unsigned int> track_joints;
   std::vector<double> contact_forces;
   std::vector<std::vector<double>> monitor_columns;
   std::vector<double> probe_values; // per row: per probe position (3), velocity (3)

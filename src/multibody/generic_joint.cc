@@ -163,17 +163,15 @@ void GenericJoint::evaluate(const std::vector<const double *> &q, const double *
     if (rows[r].kind == RowKind::own) e.B_own(r, rows[r].a) = 1;
 }
 
-std::array<Vector3, 3> GenericJoint::base_axes(const std::vector<const double *> &q, const double *own_q,
-                                               const double t) const
+void GenericJoint::reaction(const std::vector<const double *> &q, const double *own_q, const double t,
+                            const double *lambda, Vector3 &force, Vector3 &torque) const
 {
-  Local l;
-  Vector<double> phi, phi_t;
-  evaluate_rows(q, own_q, t, l, phi, phi_t);
-  return l.k[1].axes;
+  std::array<Vector3, 3> unused;
+  reaction(q, own_q, t, lambda, force, torque, unused);
 }
 
 void GenericJoint::reaction(const std::vector<const double *> &q, const double *own_q, const double t,
-                            const double *lambda, Vector3 &force, Vector3 &torque) const
+                            const double *lambda, Vector3 &force, Vector3 &torque, std::array<Vector3, 3> &base_axes) const
 {
   // Generalised constraint force -B^T lambda = J_r^T F + J_w^T T at the follower marker, with
   // F = -sum lambda dPhi/dr_i and T = -sum lambda sum_a e_a x dPhi/de_a (e_a' = omega x e_a).
@@ -186,5 +184,6 @@ void GenericJoint::reaction(const std::vector<const double *> &q, const double *
       force -= lambda[r] * l.grad[r][0];
       for (unsigned int a = 0; a < 3; ++a) torque -= lambda[r] * cross_product_3d(l.k[0].axes[a], l.grad[r][1 + a]);
     }
+  base_axes = l.k[1].axes;
 }
 } // namespace flextrack::multibody

@@ -51,11 +51,12 @@ public:
   }
   void reaction(const std::vector<const double *> &q, const double *own_q, double t, const double *lambda, Vector3 &force,
                 Vector3 &torque) const override;
+  /// The same, and the unit axes (global) of the base marker, the second, at the state: of a
+  /// track contact the track's section y axis d2, d3 = t x d2 and the tangent t (track_marker.h).
+  void reaction(const std::vector<const double *> &q, const double *own_q, double t, const double *lambda, Vector3 &force,
+                Vector3 &torque, std::array<Vector3, 3> &base_axes) const;
 
   const Marker &marker(unsigned int i) const { return *markers[i]; }
-  /// The unit axes (global) of the base marker, the second, at the state: of a track contact the
-  /// track's section y axis d2, d3 = t x d2 and the tangent t at the contact (track_marker.h).
-  std::array<Vector3, 3> base_axes(const std::vector<const double *> &q, const double *own_q, double t) const;
 
 protected:
   /// Adds the driver row  own coordinate @p index = @p law(t)  (a track's arc length).
