@@ -80,9 +80,14 @@ public:
   /// accelerations: the geometric stiffness of a flexible body's inertial loads.
   virtual void forces(const double *q, const double *v, const Vector3 &gravity, double *Q,
                       const double *v_dot = nullptr) const = 0;
-  /// Whether forces() depends on the frame accelerations v_dot[0..5] (the Jacobian then
-  /// differentiates it with respect to them).
+  /// Whether forces() depends on the frame accelerations v_dot[0..5].
   virtual bool forces_depend_on_acceleration() const { return false; }
+  /// Derivatives of the equations of motion F = M(q) v_dot - Q(q, v, v_dot) (n_v rows), exact:
+  /// @p dF_dq (n_v x n_q), @p dF_dv (n_v x n_v) and @p dF_dv_dot (n_v x n_v: M, plus -dQ/dv_dot
+  /// where forces depend on the frame accelerations).
+  virtual void equation_jacobians(const double *q, const double *v, const double *v_dot, const Vector3 &gravity,
+                                  dealii::FullMatrix<double> &dF_dq, dealii::FullMatrix<double> &dF_dv,
+                                  dealii::FullMatrix<double> &dF_dv_dot) const = 0;
 
   virtual double kinetic_energy(const double *q, const double *v) const = 0;       ///< [J]
   virtual double gravity_potential(const double *q, const Vector3 &gravity) const = 0; ///< [J]
@@ -108,6 +113,10 @@ public:
   void coordinate_rates(const double *, const double *, double *) const override {}
   void mass_matrix(const double *, dealii::FullMatrix<double> &M) const override { M.reinit(0, 0); }
   void forces(const double *, const double *, const Vector3 &, double *, const double * = nullptr) const override {}
+  void equation_jacobians(const double *, const double *, const double *, const Vector3 &, dealii::FullMatrix<double> &,
+                          dealii::FullMatrix<double> &, dealii::FullMatrix<double> &) const override
+  {
+  }
   double kinetic_energy(const double *, const double *) const override { return 0; }
   double gravity_potential(const double *, const Vector3 &) const override { return 0; }
   double strain_energy(const double *) const override { return 0; }
@@ -162,6 +171,9 @@ public:
   void forces(const double *q, const double *v, const Vector3 &gravity, double *Q,
               const double *v_dot = nullptr) const override;
   bool forces_depend_on_acceleration() const override { return stiffening; }
+  void equation_jacobians(const double *q, const double *v, const double *v_dot, const Vector3 &gravity,
+                          dealii::FullMatrix<double> &dF_dq, dealii::FullMatrix<double> &dF_dv,
+                          dealii::FullMatrix<double> &dF_dv_dot) const override;
   double kinetic_energy(const double *q, const double *v) const override;
   double gravity_potential(const double *q, const Vector3 &gravity) const override;
   double strain_energy(const double *q) const override;

@@ -224,7 +224,7 @@ std::vector<const double *> System::force_v(const unsigned int f, const Vector<d
 // Element residuals
 
 void System::body_residual(const unsigned int b, const double t, const Vector<double> &y, const Vector<double> &yp,
-                           std::vector<double> &out, const FullMatrix<double> *mass) const
+                           std::vector<double> &out) const
 {
   (void)t;
   const BodySlot &s = bodies[b];
@@ -237,9 +237,8 @@ void System::body_residual(const unsigned int b, const double t, const Vector<do
   const double mu = y[nq + nv + nlambda + s.normalisation];
   for (unsigned int i = 0; i < 4; ++i) out[3 + i] += 2 * q[3 + i] * mu;
   // F_v = M v' - Q
-  FullMatrix<double> own_mass;
-  if (!mass) s.body->mass_matrix(q, own_mass);
-  const FullMatrix<double> &M = mass ? *mass : own_mass;
+  FullMatrix<double> M;
+  s.body->mass_matrix(q, M);
   std::vector<double> Q(n_v);
   s.body->forces(q, v, g, Q.data(), vp);
   for (unsigned int i = 0; i < n_v; ++i)

@@ -208,9 +208,8 @@ private:
   void build_element_indices();
   unsigned int body_index(const Body &b) const;
   // Element residuals, into local rows (ElementIndices::rows order)
-  /// @p mass: the body's mass matrix at these q if the caller has it (it depends on q only).
   void body_residual(unsigned int b, double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
-                     std::vector<double> &out, const dealii::FullMatrix<double> *mass = nullptr) const;
+                     std::vector<double> &out) const;
   void joint_residual(unsigned int j, double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
                       std::vector<double> &out) const;
   void force_residual(unsigned int f, double t, const dealii::Vector<double> &y, std::vector<double> &out) const;
@@ -221,9 +220,8 @@ private:
                  const dealii::FullMatrix<double> &block);
   void element_differences(unsigned int kind, unsigned int index, double t, const dealii::Vector<double> &y,
                            const dealii::Vector<double> &yp);
-  /// d(M v' - Q)/dv' of body @p b into @p M (its mass matrix), frame columns, by differences.
-  void acceleration_differences(unsigned int b, double t, const dealii::Vector<double> &y,
-                                const dealii::Vector<double> &yp, dealii::FullMatrix<double> &M) const;
+  /// Body @p b's rows of the Jacobian, analytic (Body::equation_jacobians).
+  void body_jacobian(unsigned int b, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
 
   Vector3 g;
   std::vector<BodySlot> bodies;

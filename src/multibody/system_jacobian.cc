@@ -1,11 +1,13 @@
 // The Jacobian dF/dy + alpha dF/dy' of the GGL residual (system.h), element by element:
-//  - analytic: alpha on the q' terms, alpha M(q) on v', Phi_q^T on mu, 2 p on the normalisation
-//    multiplier, B^T on lambda, and Phi_q in the position-constraint rows;
-//  - central differences of each element's residual w.r.t. the q and v entries it reads (the
-//    derivatives of M v' - Q, of T v and of the multiplier terms), step h = 1e-6 (1 + |y_c|):
-//    truncation O(h^2 y''') and rounding O(eps / h) both near 1e-10 relative;
-//  - for a body whose forces depend on its frame accelerations (geometric stiffening), the
-//    columns of v'_frame by central differences too (M plus -dQ/dv').
+//  - bodies, analytic and exact (Body::equation_jacobians, body_jacobian.cc): the kinematic rows
+//    q' - T(q) v + 2 p mu, the equations of motion M(q) v' - Q(q, v, v') - with their
+//    derivatives in q, v and v' (geometric stiffening depends on the frame accelerations) - and
+//    the normalisation |p|^2 - 1;
+//  - joints and forces: alpha on the joints' own q', Phi_q^T on mu, B^T on lambda and Phi_q in the
+//    position-constraint rows analytic; the derivatives of the joint and force terms in q (and in
+//    the joints' own velocities) by central differences of each element's residual w.r.t. the
+//    entries it reads, step h = 1e-6 (1 + |y_c|): truncation O(h^2 y''') and rounding
+//    O(eps / h), both near 1e-10 relative.
 #include <multibody/jacobian_solver.h>
 #include <multibody/system.h>
 
@@ -42,21 +44,11 @@ void System::add_local(const std::vector<unsigned int> &rows, const std::vector<
 void System::element_differences(const unsigned int kind, const unsigned int index, const double t,
                                  const Vector<double> &y, const Vector<double> &yp)
 {
-  const ElementIndices &e = kind == body_element ? body_elements[index] : kind == joint_element ? joint_elements[index]
-                                                                                               : force_elements[index];
+  Assert(kind == joint_element || kind == force_element, ExcInternalError()); // bodies: body_jacobian
+  const ElementIndices &e = kind == joint_element ? joint_elements[index] : force_elements[index];
   FullMatrix<double> block(e.rows.size(), e.columns.size());
   // Columns whose derivatives are known without differences (see below): skipped in the loop.
   std::vector<bool> analytic(e.columns.size(), false);
-  // A body's mass matrix depends on its rotation and modal coordinates only: the differences in
-  // the columns of R and of the velocities reuse the one at y (most of a body's cost).
-  FullMatrix<double> mass;
-  std::vector<bool> same_mass(e.columns.size(), false);
-  if (kind == body_element)
-    {
-      const BodySlot &s = bodies[index];
-      s.body->mass_matrix((y.begin() + (s.q)), mass);
-      for (unsigned int c = 0; c < e.columns.size(); ++c) same_mass[c] = c < 3 || c >= s.body->n_q();
-    }
   if (kind == joint_element)
     {
       // The joint residual is linear in the bodies' velocities, which appear only in the
@@ -76,9 +68,8 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
             for (unsigned int r = 0; r < m; ++r) block(n_q_cols + n_v_cols + r, c) = ev.B[b](s.active[r], k);
           }
     }
-  auto evaluate = [&](const unsigned int c, const Vector<double> &yy, std::vector<double> &out) {
-    if (kind == body_element) body_residual(index, t, yy, yp, out, same_mass[c] ? &mass : nullptr);
-    else if (kind == joint_element) joint_residual(index, t, yy, yp, out);
+  auto evaluate = [&](const Vector<double> &yy, std::vector<double> &out) {
+    if (kind == joint_element) joint_residual(index, t, yy, yp, out);
     else force_residual(index, t, yy, out);
   };
   Vector<double> yy(y);
@@ -89,9 +80,9 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
       const unsigned int col = e.columns[c];
       const double h = relative_step * (1 + std::abs(y[col]));
       yy[col] = y[col] + h;
-      evaluate(c, yy, plus);
+      evaluate(yy, plus);
       yy[col] = y[col] - h;
-      evaluate(c, yy, minus);
+      evaluate(yy, minus);
       yy[col] = y[col];
       for (unsigned int r = 0; r < e.rows.size(); ++r) block(r, c) = (plus[r] - minus[r]) / (2 * h);
     }
@@ -104,26 +95,39 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
   add_local(e.rows, e.columns, block);
 }
 
-void System::acceleration_differences(const unsigned int b, const double t, const Vector<double> &y,
-                                      const Vector<double> &yp, FullMatrix<double> &M) const
+void System::body_jacobian(const unsigned int b, const double alpha, const Vector<double> &y, const Vector<double> &yp)
 {
-  // M's columns 0..5 (frame accelerations) become central differences of the body's residual
-  // w.r.t. v'; forces depend on no other acceleration (Body::forces_depend_on_acceleration).
   const BodySlot &s = bodies[b];
-  const unsigned int n_q = s.body->n_q(), n_v = s.body->n_v();
-  Vector<double> ypp(yp);
-  std::vector<double> plus, minus;
-  for (unsigned int c = 0; c < 6; ++c)
+  const unsigned int n_q = s.body->n_q(), n_v = s.body->n_v(), m0 = nq + nv + nlambda;
+  const double *q = (y.begin() + (s.q)), *v = (y.begin() + (nq + s.v)), *vp = (yp.begin() + (nq + s.v));
+  const double mu = y[m0 + s.normalisation];
+  // Kinematic rows q' - T(q) v + 2 p mu: alpha on q'; -1 on R', omega -> p' = G(p)^T omega / 2
+  // (G linear in p: its derivative is G of the unit vectors), eta'; 2 mu on p.
+  for (unsigned int i = 0; i < n_q; ++i) solver->add(s.q + i, s.q + i, alpha);
+  for (unsigned int a = 0; a < 3; ++a) solver->add(s.q + a, nq + s.v + a, -1);
+  for (unsigned int k = 0; k < n_q - 7; ++k) solver->add(s.q + 7 + k, nq + s.v + 6 + k, -1);
+  const auto G = geometry::body_velocity_matrix({{q[3], q[4], q[5], q[6]}});
+  for (unsigned int i = 0; i < 4; ++i)
     {
-      const unsigned int col = nq + s.v + c;
-      const double h = relative_step * (1 + std::abs(yp[col]));
-      ypp[col] = yp[col] + h;
-      body_residual(b, t, y, ypp, plus);
-      ypp[col] = yp[col] - h;
-      body_residual(b, t, y, ypp, minus);
-      ypp[col] = yp[col];
-      for (unsigned int r = 0; r < n_v; ++r) M(r, c) = (plus[n_q + r] - minus[n_q + r]) / (2 * h);
+      for (unsigned int l = 0; l < 3; ++l) solver->add(s.q + 3 + i, nq + s.v + 3 + l, -0.5 * G[l][i]);
+      geometry::EulerParameters unit{{0, 0, 0, 0}};
+      unit[i] = 1;
+      const auto G_i = geometry::body_velocity_matrix(unit);
+      for (unsigned int r = 0; r < 4; ++r)
+        solver->add(s.q + 3 + r, s.q + 3 + i,
+                    -0.5 * (G_i[0][r] * v[3] + G_i[1][r] * v[4] + G_i[2][r] * v[5]) + (r == i ? 2 * mu : 0.0));
+      solver->add(s.q + 3 + i, m0 + s.normalisation, 2 * q[3 + i]); // the multiplier's column
+      solver->add(m0 + s.normalisation, s.q + 3 + i, 2 * q[3 + i]); // |p|^2 - 1
     }
+  // Equations of motion: dF/dq, dF/dv + alpha dF/dv'.
+  FullMatrix<double> dq, dv, dvp;
+  s.body->equation_jacobians(q, v, vp, g, dq, dv, dvp);
+  dv.add(alpha, dvp);
+  std::vector<unsigned int> v_rows(n_v), q_cols(n_q);
+  for (unsigned int i = 0; i < n_v; ++i) v_rows[i] = nq + s.v + i;
+  for (unsigned int i = 0; i < n_q; ++i) q_cols[i] = s.q + i;
+  add_local(v_rows, q_cols, dq);
+  add_local(v_rows, v_rows, dv);
 }
 
 void System::assemble_jacobian(const double t, const double alpha, const Vector<double> &y, const Vector<double> &yp)
@@ -154,21 +158,7 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
     }
   ++jacobian_count;
   solver->zero();
-  for (unsigned int b = 1; b < bodies.size(); ++b)
-    {
-      element_differences(body_element, b, t, y, yp);
-      const BodySlot &s = bodies[b];
-      for (unsigned int i = 0; i < s.body->n_q(); ++i) solver->add(s.q + i, s.q + i, alpha); // q'
-      FullMatrix<double> M;
-      s.body->mass_matrix((y.begin() + (s.q)), M);
-      std::vector<unsigned int> v_rows(s.body->n_v());
-      for (unsigned int i = 0; i < v_rows.size(); ++i) v_rows[i] = nq + s.v + i;
-      if (s.body->forces_depend_on_acceleration()) // alpha d(M v' - Q)/dv' on the frame columns
-        acceleration_differences(b, t, y, yp, M);
-      M *= alpha;
-      add_local(v_rows, v_rows, M); // alpha M
-      for (unsigned int i = 0; i < 4; ++i) solver->add(s.q + 3 + i, m0 + s.normalisation, 2 * y[s.q + 3 + i]);
-    }
+  for (unsigned int b = 1; b < bodies.size(); ++b) body_jacobian(b, alpha, y, yp);
   for (unsigned int j = 0; j < joints.size(); ++j)
     {
       element_differences(joint_element, j, t, y, yp);

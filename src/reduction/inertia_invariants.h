@@ -61,6 +61,18 @@ public:
                           const dealii::Tensor<1, 3> &omega, const dealii::Vector<double> &eta_dot,
                           dealii::Vector<double> &Qv) const;
 
+  /// Derivatives of the inertial part of a body's residual, r = M(A, eta) v_dot - Q_v, with respect
+  /// to eta, omega and eta_dot (each 6 + n rows), at v_dot = (R'', omega', eta'') (global, body
+  /// axes, modal). Its dependence on A is returned through two vectors (body axes): r_R = m R'' +
+  /// A h_R and r_omega = S x (A^T R'') + terms free of A, with S = s + I3 eta. Cost O(n^2).
+  struct Derivatives
+  {
+    dealii::FullMatrix<double> d_eta, d_omega, d_eta_dot; ///< (6 + n) x n, (6 + n) x 3, (6 + n) x n
+    dealii::Tensor<1, 3> h_R, S;
+  };
+  void derivatives(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta, const dealii::Tensor<1, 3> &omega,
+                   const dealii::Vector<double> &eta_dot, const double *v_dot, Derivatives &d) const;
+
 private:
   /// S = s + I3 eta, J(eta), Pe = sum_k eta_k P_k, and Ph_k.
   unsigned int n;
