@@ -47,6 +47,8 @@ flextrack_multibody_check(linearize_neutral_slider_is_not_called_unstable linear
                           ${CMAKE_SOURCE_DIR}/prm/bench/default_slider_on_turning_arm.prm)
 flextrack_multibody_check(reduce_arm_body_without_solid_line_has_no_solid arm_body_without_solid_line
                           ${CMAKE_SOURCE_DIR}/prm/cantilever_body.prm)
+flextrack_multibody_check(run_step_limiter_is_the_fast_pendulum step_limiter_is_the_fast_pendulum
+                          ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/fast_and_slow_pendulums.prm)
 flextrack_multibody_check(run_json_scene_reads_like_prm json_like_prm ${CMAKE_CURRENT_SOURCE_DIR}/multibody_input/pendulum_1s.json)
 set_tests_properties(cli_run_flexible_pendulum_balances_energy PROPERTIES TIMEOUT 600)
 # Multibody/Initial state = static equilibrium: a cantilever sagging under its weight.

@@ -25,8 +25,9 @@
 
 #include <deal.II/base/timer.h>
 
-#include <iomanip>
+#include <algorithm>
 #include <functional>
+#include <iomanip>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -73,7 +74,33 @@ private:
   double last_print = -1, next_fraction = 0;
 };
 
-io::JsonObject statistics_json(const multibody::IntegratorStatistics &s)
+/// The unknowns that most often had the largest weighted local error of a step (IDA), most
+/// frequent first, at most @p count of them: what limits the step size.
+std::vector<std::pair<std::string, long>> step_limiters(const multibody::IntegratorStatistics &s,
+                                                        const multibody::System &system, const unsigned int count)
+{
+  std::vector<unsigned int> order(s.steps_limited_by.size());
+  for (unsigned int i = 0; i < order.size(); ++i) order[i] = i;
+  const unsigned int k = std::min<unsigned int>(count, order.size());
+  std::partial_sort(order.begin(), order.begin() + k, order.end(),
+                    [&](const unsigned int a, const unsigned int b) { return s.steps_limited_by[a] > s.steps_limited_by[b]; });
+  std::vector<std::pair<std::string, long>> top;
+  for (unsigned int i = 0; i < k && s.steps_limited_by[order[i]] > 0; ++i)
+    top.emplace_back(system.component_name(order[i]), s.steps_limited_by[order[i]]);
+  return top;
+}
+
+void print_step_limiters(const multibody::IntegratorStatistics &s, const multibody::System &system)
+{
+  const auto top = step_limiters(s, system, 3);
+  if (top.empty()) return;
+  std::cout << "  steps limited by (largest weighted local error):";
+  for (const auto &[name, steps] : top)
+    std::cout << " " << name << " " << std::setprecision(2) << 100.0 * steps / std::max(1L, s.steps) << " %;";
+  std::cout << "\n";
+}
+
+io::JsonObject statistics_json(const multibody::IntegratorStatistics &s, const multibody::System &system)
 {
   io::JsonObject j;
   std::vector<double> histogram(s.order_histogram.begin() + 1, s.order_histogram.end());
@@ -86,6 +113,9 @@ io::JsonObject statistics_json(const multibody::IntegratorStatistics &s)
     .add("jacobian_evaluations", static_cast<double>(s.jacobian_evaluations))
     .add("factorizations", static_cast<double>(s.factorizations))
     .add("last_step_s", s.last_step);
+  io::JsonObject limiters; // unknown -> steps at which it had the largest weighted local error
+  for (const auto &[name, steps] : step_limiters(s, system, 5)) limiters.add(name, static_cast<double>(steps));
+  j.add("steps_limited_by", limiters);
   return j;
 }
 
@@ -335,7 +365,7 @@ int run_command(const Options &options, const io::SceneFile &file)
         for (unsigned int b = 1; b < system.n_bodies(); ++b) modes.add(system.body(b).name(), system.body(b).n_modes());
         return modes;
       }())
-      .add("integrator", statistics_json(integrator.statistics())
+      .add("integrator", statistics_json(integrator.statistics(), system)
                              .add("method", settings.integrator.method_name())
                              .add("maximum_order", integrator_settings.max_order)
                              .add("chosen_for_this_scene", chosen))
@@ -378,6 +408,7 @@ int run_command(const Options &options, const io::SceneFile &file)
             << " m/s or rad/s (velocity tolerance of the frames " << velocity_yardstick << "), ||p|-1| "
             << recorder.max_normalisation_drift << ", energy balance error " << recorder.max_balance_error
             << " of the energy scale (largest |kinetic| or |potential| energy so far)\n";
+  print_step_limiters(stats, system);
   print_timings(clock);
   const std::string rows_kept = ". The " + std::to_string(recorder.n_rows()) + " output rows up to t = " +
                                 std::to_string(recorder.last_time()) + " s are in " + out.path() + "/";

@@ -36,6 +36,7 @@ struct IdaIntegrator::Sundials
   SUNContext context = nullptr;
   void *ida = nullptr;
   N_Vector y = nullptr, yp = nullptr, id = nullptr;
+  N_Vector weights = nullptr, errors = nullptr; ///< for count_step_limiter()
   SUNMatrix matrix = nullptr;
   SUNLinearSolver solver = nullptr;
 
@@ -44,7 +45,7 @@ struct IdaIntegrator::Sundials
     if (ida) IDAFree(&ida);
     if (solver) SUNLinSolFreeEmpty(solver);
     if (matrix) SUNMatFreeEmpty(matrix);
-    for (N_Vector v : {y, yp, id})
+    for (N_Vector v : {y, yp, id, weights, errors})
       if (v) N_VDestroy(v);
     if (context) SUNContext_Free(&context);
   }
@@ -186,6 +187,7 @@ void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
   IDASetJacFn(sun->ida, IdaCallbacks::jacobian);
   if (n_roots) IDARootInit(sun->ida, n_roots, IdaCallbacks::roots);
   histogram.fill(0);
+  limited_by.clear();
   t_now = output_origin = t0;
 }
 
@@ -263,6 +265,7 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
       int order = 0;
       IDAGetLastOrder(sun->ida, &order);
       if (order >= 1 && order <= 5) ++histogram[order];
+      count_step_limiter();
       if (step_hook) step_hook(t_begin, t_now);
       const double tiny = 1e-12 * std::max(1.0, std::abs(t_end));
       while (output && next_output <= t_now + tiny)
@@ -285,6 +288,28 @@ double IdaIntegrator::integrate(const double t_end, const double output_interval
       if (flag == IDA_TSTOP_RETURN) break;
     }
   return t_now;
+}
+
+void IdaIntegrator::count_step_limiter()
+{
+  // The unknown with the largest weighted local error of the step just taken: where the error
+  // test, and so the step size, is decided. Its count tells a user which body, mode or joint
+  // makes a run slow (log and summary.json).
+  if (!sun->weights)
+    {
+      sun->weights = N_VClone(sun->y);
+      sun->errors = N_VClone(sun->y);
+      limited_by.assign(system.size(), 0);
+    }
+  IDAGetErrWeights(sun->ida, sun->weights);
+  IDAGetEstLocalErrors(sun->ida, sun->errors);
+  const double *w = N_VGetArrayPointer(sun->weights), *e = N_VGetArrayPointer(sun->errors),
+               *id = N_VGetArrayPointer(sun->id);
+  unsigned int worst = 0;
+  double largest = -1;
+  for (unsigned int i = 0; i < limited_by.size(); ++i)
+    if (id[i] != 0 && std::abs(e[i] * w[i]) > largest) largest = std::abs(e[i] * w[i]), worst = i;
+  if (largest > 0) ++limited_by[worst];
 }
 
 void IdaIntegrator::interpolate(const double t, State &y, State &yp) const
@@ -311,6 +336,7 @@ IntegratorStatistics IdaIntegrator::statistics() const
   IDAGetNumLinSolvSetups(sun->ida, &s.factorizations);
   IDAGetLastStep(sun->ida, &s.last_step);
   s.order_histogram = histogram;
+  s.steps_limited_by = limited_by;
   const IntegratorStatistics &b = before_restart;
   s.steps += b.steps;
   s.error_test_failures += b.error_test_failures;

@@ -41,6 +41,7 @@ public:
 
 private:
   [[noreturn]] void fail(int flag) const;
+  void count_step_limiter();
   struct Sundials; // SUNContext, vectors, IDA memory, solver objects
   std::unique_ptr<Sundials> sun;
   System &system;
@@ -50,6 +51,7 @@ private:
   std::vector<int> roots;
   std::function<void(double, double)> step_hook;
   std::array<long, 6> histogram{};
+  std::vector<long> limited_by; ///< IntegratorStatistics::steps_limited_by
   /// IDA's counters before the last reinitialize() (IDAReInit sets them to zero).
   IntegratorStatistics before_restart;
   double t_now = 0;

@@ -68,6 +68,9 @@ struct IntegratorStatistics
   long residual_evaluations = 0, jacobian_evaluations = 0, factorizations = 0;
   std::array<long, 6> order_histogram{}; ///< steps taken at order 1..5 (index = order)
   double last_step = 0;                  ///< [s]
+  /// Per unknown, the steps at which it had the largest weighted local error (IDA: the unknown
+  /// that limits the step size); empty where the integrator does not estimate it per unknown.
+  std::vector<long> steps_limited_by;
 };
 
 class TimeIntegrator

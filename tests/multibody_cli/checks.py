@@ -697,5 +697,22 @@ def end_stop_on_flexible_arm_with_generalized_alpha(exe, scene, out):
           f"at 0.1 ms it completes, energy balance {balance:.1e} of the energy scale (< 1e-5)")
 
 
+def step_limiter_is_the_fast_pendulum(exe, scene, out):
+    # Issue 24: the log and summary.json say which unknowns decide IDA's step size (the largest
+    # weighted local error of each step). tests/multibody_input/fast_and_slow_pendulums.prm: two
+    # independent pendulums, omega 31 and 2.2 rad/s. A BDF step's local error in a coordinate that
+    # swings at omega scales as (h omega)^(k+1) times its amplitude, so the fast pendulum's
+    # coordinates must decide at least 90 % of the steps; the slow one's at most 10 %.
+    summary = fresh_run(exe, scene, out)
+    limiters = summary["integrator"]["steps_limited_by"]
+    steps = summary["integrator"]["steps"]
+    fast = sum(n for name, n in limiters.items() if name.startswith("body fast,"))
+    slow = sum(n for name, n in limiters.items() if name.startswith("body slow,"))
+    print(limiters, steps)
+    check(len(limiters) > 0 and all(n >= 0 for n in limiters.values()), "summary.json lists the step limiters")
+    check(fast >= 0.9 * steps, f"the fast pendulum limits {fast} of {steps} steps (>= 90 %)")
+    check(slow <= 0.1 * steps, f"the slow pendulum limits {slow} of {steps} steps (<= 10 %)")
+
+
 if __name__ == "__main__":
     globals()[sys.argv[1]](*sys.argv[2:5])

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <chrono>
 #include <cmath>
 
@@ -332,4 +334,34 @@ TEST(CrossSection, square_torsion_constant_matches_saint_venant)
 {
   // Square a x a: J = 0.140577015 a^4 (Saint-Venant; REFERENCES.md sec. 1). Tolerance 1e-8.
   EXPECT_NEAR(flextrack::fem::CrossSection::rectangle_torsion_constant(0.1, 0.1) / 1e-4, 0.140577015, 1e-8);
+}
+
+TEST(SectionFrame, rate_is_the_derivative_of_the_frame_for_every_kind)
+{
+  // A contact sliding along an arm turns with d(d2)/ds = y_axis_rate; the velocity constraint
+  // of a track joint uses it, the position constraint uses y_axis(s). Where the two disagree, the
+  // velocity constraint is not the derivative of the position constraint. Reference: central
+  // differences of y_axis(s), h = 1e-5 m (truncation h^2 |d2'''| / 6 ~ 1e-10, rounding
+  // 1e-16 / h ~ 1e-11). Curve: the laser robot's arm I (prm/laser_robot_base.prm), a spatial arc
+  // whose curvature and torsion vary. Tolerance 1e-8 1/m.
+  const auto curve = curve_from("set Kind = parametric\nsubsection Parametric\n set x(t) = 0.15 + 0.9*(1 - cos(t))\n"
+                                " set y(t) = 0.15 + 0.25*t\n set z(t) = 0.2 + 0.9*sin(t)\n"
+                                " set Parameter end = 1.5707963267948966\nend\n");
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> uniform(0.01, curve->length() - 0.01);
+  for (const auto kind : {SectionFrame::Kind::frenet, SectionFrame::Kind::rotation_minimising, SectionFrame::Kind::fixed_vector})
+    {
+      const SectionFrame frame(curve, kind, Vec3({1, 0, 0}));
+      double worst = 0;
+      for (int trial = 0; trial < 200; ++trial)
+        {
+          const double s = uniform(random), h = 1e-5;
+          const CurveGeometry g = curve->geometry(s);
+          const Vec3 rate = frame.y_axis_rate(g, frame.y_axis(g));
+          const Vec3 difference = (frame.y_axis(s + h) - frame.y_axis(s - h)) / (2 * h);
+          worst = std::max(worst, (rate - difference).norm());
+        }
+      std::cout << "  frame kind " << static_cast<int>(kind) << ": largest |y_axis_rate - d(y_axis)/ds| " << worst << " 1/m\n";
+      EXPECT_LT(worst, 1e-8) << "frame kind " << static_cast<int>(kind);
+    }
 }
