@@ -21,10 +21,15 @@ Asserted, per run:
      is a few of those errors. Generalised-alpha solves the constraints at each step to its Newton
      tolerance, built from the same rtol and atol. Factor 10: margin (the largest measured is 1.3
      times the tolerance scale, doc/stress.md);
-  3. drift not growing: the largest value over the last window <= 5 times the largest over the
-     first window, for the three quantities of 2 (values below a thousandth of their bound count
-     as that thousandth: round-off has no trend). A drift growing in proportion to time would
-     make the ratio at least 9; values that only fluctuate at the tolerance measured 0.3-3.3;
+  3. drift not growing: the median over the last window <= 5 times the median over the first
+     window, for the three quantities of 2 (values below a thousandth of their bound count as
+     that thousandth: round-off has no trend). A drift growing in proportion to time moves every
+     row, so the medians by a factor of at least 9. Why medians and not maxima: between steps an
+     output row is IDA's interpolant, whose constraint residual is round-off (1e-13) on most rows
+     and a spike of 1e-7 ... 1e-5 on a few; the window maxima are those spikes, which jump by a
+     factor of 100 from one window to the next in no order (flexible rod, IDA, per 100 s: 8.0e-8,
+     4.9e-7, 9.5e-6, 1.8e-6, ..., 4.2e-7), so a ratio of two of them measured 0.1 on one build
+     and 5.3 on the next with the same trend-free series. The spikes are bounded by item 2;
   4. energy: the relative energy balance error e(t) of monitors.csv (E - E0 - W + D over the
      largest of |E0|, |W|, |D|, T; doc/multibody.md; the exact value is 0: the scenes are
      conservative, or damped with the damping's work in D):
@@ -42,6 +47,7 @@ The numbers are printed as a table; doc/stress.md ("Long runs") lists them.
 """
 import math
 import os
+import statistics
 import sys
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree when stress_runs is imported
@@ -91,11 +97,12 @@ CASES = {
 }
 
 
-def windows(times, values, end):
-    """Largest |value| over the first and over the last WINDOW of the run (rows after t = 0)."""
+def windows(times, values, end, statistic=max):
+    """statistic (max or statistics.median) of |value| over the first and over the last WINDOW of
+    the run (rows after t = 0)."""
     w = WINDOW * end
-    first = max(abs(v) for t, v in zip(times, values) if 0 < t <= w)
-    last = max(abs(v) for t, v in zip(times, values) if t >= end - w)
+    first = statistic([abs(v) for t, v in zip(times, values) if 0 < t <= w])
+    last = statistic([abs(v) for t, v in zip(times, values) if t >= end - w])
     return first, last
 
 
@@ -152,12 +159,14 @@ def check_drift(monitors, end, bounds, fail):
     for column, bound in bounds.items():
         largest = max(abs(v) for v in monitors[column])
         first, last = windows(monitors["time_s"], monitors[column], end)
+        first_median, last_median = windows(monitors["time_s"], monitors[column], end, statistics.median)
         floor = 1e-3 * bound
         found[column] = (largest, bound, first, last)
         if not largest <= bound:
             fail(f"{column}: largest {largest:.3g} > bound {bound:.3g}")
-        if not max(last, floor) <= GROWTH_FACTOR * max(first, floor):
-            fail(f"{column} grows: last window {last:.3g} > {GROWTH_FACTOR} x first window {first:.3g}")
+        if not max(last_median, floor) <= GROWTH_FACTOR * max(first_median, floor):
+            fail(f"{column} grows: median over the last window {last_median:.3g} > {GROWTH_FACTOR} x the median over "
+                 f"the first window {first_median:.3g} (floor {floor:.3g})")
     return found
 
 
