@@ -141,7 +141,7 @@ void FloatingBody::mass_matrix(const double *q, FullMatrix<double> &M) const
 void FloatingBody::forces(const double *q, const double *v, const Vector3 &gravity, double *Q, const double *v_dot) const
 {
   const FrameState f = frame(q, v);
-  Vector<double> Qv;
+  thread_local Vector<double> Qv; // reused between calls: no heap allocation per evaluation
   inertia->quadratic_velocity(f.A, f.eta, f.omega, f.eta_dot, Qv);
   for (unsigned int i = 0; i < 6 + n; ++i) Q[i] = Qv[i];
 

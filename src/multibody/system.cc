@@ -237,9 +237,10 @@ void System::body_residual(const unsigned int b, const double t, const Vector<do
   const double mu = y[nq + nv + nlambda + s.normalisation];
   for (unsigned int i = 0; i < 4; ++i) out[3 + i] += 2 * q[3 + i] * mu;
   // F_v = M v' - Q
-  FullMatrix<double> M;
+  thread_local FullMatrix<double> M; // reused between calls: no heap allocation per body
+  thread_local std::vector<double> Q;
+  Q.resize(n_v);
   s.body->mass_matrix(q, M);
-  std::vector<double> Q(n_v);
   s.body->forces(q, v, g, Q.data(), vp);
   for (unsigned int i = 0; i < n_v; ++i)
     {
@@ -290,9 +291,10 @@ void System::joint_residual(const unsigned int j, const double t, const Vector<d
   unsigned int n_q_cols = n_own, n_v_cols = n_own;
   for (const unsigned int b : s.body_index) n_q_cols += bodies[b].body->n_q(), n_v_cols += bodies[b].body->n_v();
   out.assign(ind.rows.size(), 0.0);
-  JointEvaluation e;
+  // Reused between calls, as GenericJoint::evaluate's workspace (the storage of B, Phi_q).
+  thread_local JointEvaluation e;
+  thread_local FullMatrix<double> Phi_q;
   s.joint->evaluate(joint_q(j, y), n_own ? (y.begin() + (s.own_q)) : nullptr, t, e);
-  FullMatrix<double> Phi_q;
   joint_position_jacobian(j, y, e, Phi_q);
   const double *lambda = (y.begin() + (nq + nv + s.multiplier)), *mu = (y.begin() + (nq + nv + nlambda + s.multiplier));
   for (unsigned int c = 0; c < n_q_cols; ++c) // Phi_q^T mu

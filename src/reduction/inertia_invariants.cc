@@ -81,7 +81,8 @@ void FloatingFrameInertia::quadratic_velocity(const Tensor<2, 3> &A, const Vecto
   Qv.reinit(6 + n);
   Tensor<1, 3> S = inv.first_moment, I3ed; // I3 etad
   Tensor<2, 3> Pe, Qee;
-  std::vector<Tensor<2, 3>> Ph(n); // Ph_k = P_k + sum_j eta_j Q_kj
+  thread_local std::vector<Tensor<2, 3>> Ph; // Ph_k = P_k + sum_j eta_j Q_kj (storage reused)
+  Ph.resize(n);
   for (unsigned int k = 0; k < n; ++k)
     {
       for (unsigned int a = 0; a < 3; ++a)
