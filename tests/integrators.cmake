@@ -36,3 +36,21 @@ add_test(NAME cli_run_generalized_alpha_stops_at_track_end
           -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_track_end.cmake
   WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(cli_run_generalized_alpha_stops_at_track_end PROPERTIES LABELS cli)
+
+# Issue 24, item 2: Andrews' squeezing mechanism (prm/bench/andrews_squeezer.prm, 7 rigid bars in
+# a closed loop) against the published reference solution at t = 0.03 s (IVP Test Set, problem
+# "andrews"): IDA at rtol 1e-4, 1e-6, 1e-8 and 1e-10 each completes, the probes' error is at most
+# 100 x rtol of the mechanism's size, falls from each tolerance to the next and with a slope of at
+# least 0.7 over them (tests/bench/andrews_squeezer.py says why).
+add_test(NAME cli_run_andrews_squeezer_error_follows_the_tolerance
+  COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/bench/andrews_squeezer.py $<TARGET_FILE:flextrack>
+          ${CMAKE_SOURCE_DIR}/prm/bench/andrews_squeezer.prm ${CMAKE_CURRENT_BINARY_DIR}/cli_andrews --check)
+set_tests_properties(cli_run_andrews_squeezer_error_follows_the_tolerance PROPERTIES LABELS cli TIMEOUT 600
+  FAIL_REGULAR_EXPRESSION "FAIL")
+# The same mechanism's work-precision, rtol 1e-3 ... 1e-10, three runs each (label bench): CPU and
+# error side by side, the slope of the error over the tolerance and CPU(1e-8) / CPU(1e-5).
+add_test(NAME bench_andrews_squeezer_work_precision
+  COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/bench/andrews_squeezer.py $<TARGET_FILE:flextrack>
+          ${CMAKE_SOURCE_DIR}/prm/bench/andrews_squeezer.prm ${CMAKE_CURRENT_BINARY_DIR}/bench_andrews)
+set_tests_properties(bench_andrews_squeezer_work_precision PROPERTIES LABELS bench TIMEOUT 1800
+  FAIL_REGULAR_EXPRESSION "FAIL")

@@ -7,7 +7,8 @@
 // when the Jacobian is stale and calls our Jacobian function (System::assemble_jacobian at
 // alpha = c_j), then our setup (KLU numeric factorisation), then our solves; IDA itself rescales
 // solutions when c_j changed since the last setup. The algebraic unknowns (lambda, mu) are
-// excluded from the error test (IDASetId + IDASetSuppressAlg).
+// excluded from the error test (IDASetId + IDASetSuppressAlg) and, with 'Multiplier tolerance =
+// auto', from the Newton test (error weights of our own, IdaCallbacks::error_weights).
 #pragma once
 
 #include <multibody/time_integrator.h>

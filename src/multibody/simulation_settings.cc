@@ -111,8 +111,8 @@ SimulationSettings SimulationSettings::parse_parameters(ParameterHandler &prm)
   if (!(in.velocity_tolerance == 0 || (in.velocity_tolerance >= 1e-15 && in.velocity_tolerance <= 1e6)))
     throw InputError("Multibody/Integrator/Velocity tolerance", "must be auto, 0 (the absolute tolerance) or from 1e-15 "
                                                                "to 1e6 (m/s, rad/s, modal units/s)");
-  if (!(in.multiplier_tolerance >= 1e-15))
-    throw InputError("Multibody/Integrator/Multiplier tolerance", "must be >= 1e-15 (N, N m, 1/s)");
+  if (!(in.multiplier_tolerance >= 1e-15 && in.multiplier_tolerance <= 1e15))
+    throw InputError("Multibody/Integrator/Multiplier tolerance", "must be auto or from 1e-15 to 1e15 (N, N m, 1/s)");
   if (!(in.relative_tolerance >= 1e-14 && in.relative_tolerance < 1))
     throw InputError("Multibody/Integrator/Relative tolerance", "must be from 1e-14 (about 50 times the round-off of "
                                                                "double precision) to below 1");

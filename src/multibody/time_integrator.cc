@@ -30,9 +30,14 @@ void IntegratorSettings::declare_parameters(ParameterHandler &prm)
                     "velocity gets the absolute tolerance times its mode's angular frequency, so a vibration "
                     "whose amplitude is within the position tolerance is not resolved in time; the "
                     "velocities of the frames and joints get the absolute tolerance (doc/multibody.md).");
-  prm.declare_entry("Multiplier tolerance", "1e-2", Patterns::Double(0),
-                    "Absolute tolerance of the Lagrange multipliers in IDA's Newton test [N, N m, 1/s] (they "
-                    "are not in the error test).");
+  prm.declare_entry("Multiplier tolerance", "auto", Patterns::Anything(),
+                    "Absolute tolerance of the Lagrange multipliers in IDA's Newton test [N, N m, 1/s] (they are "
+                    "not in the error test): 'auto' (the default) or a number from 1e-15 to 1e15. 'auto': the "
+                    "joints' multipliers are not in the Newton test either (a multiplier's error moves the "
+                    "velocities by (step / mass) times it within the same iteration, and the velocities are "
+                    "tested), the bodies' |p| = 1 multipliers are tested against 1e-2. A number tests them all "
+                    "against it; round-off in the multipliers grows as 1 / step, so a short step can fail any "
+                    "number. Generalised-alpha uses 1e-2 for 'auto' (doc/multibody.md).");
   prm.declare_entry("Maximum order", "auto", Patterns::Anything(),
                     "Largest BDF order IDA may use [-]: 'auto' (the default) or 1 to 5. 'auto': 2 when a "
                     "flexible body has elastic modes (BDF 3 to 5 are not stable for lightly damped vibration "
@@ -62,7 +67,12 @@ void IntegratorSettings::parse_parameters(ParameterHandler &prm)
   const std::string v_tol = base::trim(prm.get("Velocity tolerance"));
   automatic_velocity_tolerance = v_tol == "auto";
   velocity_tolerance = automatic_velocity_tolerance ? 0 : base::parse_number(v_tol, "Multibody/Integrator/Velocity tolerance", "'auto' or a number (m/s, rad/s, modal units/s)");
-  multiplier_tolerance = prm.get_double("Multiplier tolerance");
+  const std::string m_tol = base::trim(prm.get("Multiplier tolerance"));
+  automatic_multiplier_tolerance = m_tol == "auto";
+  multiplier_tolerance = automatic_multiplier_tolerance
+                           ? 1e-2
+                           : base::parse_number(m_tol, "Multibody/Integrator/Multiplier tolerance",
+                                                "'auto' or a number (N, N m, 1/s)");
   const std::string order = base::trim(prm.get("Maximum order"));
   automatic_max_order = order == "auto";
   if (!automatic_max_order)
@@ -140,6 +150,9 @@ std::string choose_automatic_settings(const System &system, IntegratorSettings &
              << base::number_text(settings.absolute_tolerance * std::max(1.0, frame_omega))
              << " (absolute tolerance x the geometric mean of the lowest and highest modal angular frequency)";
     }
+  if (settings.automatic_multiplier_tolerance && settings.method == IntegrationMethod::ida)
+    note << (note.tellp() > 0 ? "; " : "")
+         << "the joints' multipliers not in the Newton test (their error reaches the velocities, which are tested)";
   return note.str();
 }
 

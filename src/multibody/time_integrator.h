@@ -43,10 +43,15 @@ struct IntegratorSettings
     if (k < velocity_tolerances.size()) return velocity_tolerances[k];
     return velocity_tolerance > 0 ? velocity_tolerance : absolute_tolerance;
   }
-  /// Absolute tolerance of the multipliers lambda, mu [N, N m, 1/s]. They are excluded from the
-  /// error test, so this enters only IDA's Newton convergence test, where a tight value fails:
-  /// index-2 multipliers carry roundoff amplified by c_j ~ 1/h (mu ~ eps |q| / h).
+  /// Absolute tolerance of the multipliers lambda, mu [N, N m, 1/s] when set to a number. They
+  /// are excluded from the error test, so this enters only the Newton convergence test, where a
+  /// tight value fails: index-2 multipliers carry roundoff amplified by c_j ~ 1/h (mu ~ eps |q| / h).
   double multiplier_tolerance = 1e-2;
+  /// "Multiplier tolerance = auto" (the default): IDA leaves the joints' multipliers out of its
+  /// Newton test, which bounds them through the velocities they move, and tests the bodies'
+  /// normalisation multipliers against 1e-2 (ida_integrator.cc, error_weights);
+  /// generalised-alpha uses 1e-2.
+  bool automatic_multiplier_tolerance = true;
   unsigned int max_order = 5;       ///< BDF order limit, 1..5
   unsigned int max_newton_iterations = 4; ///< per step, before a Jacobian rebuild or a smaller step
   double max_step = 0;              ///< [s], 0: no limit
