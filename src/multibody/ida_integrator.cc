@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace flextrack::multibody
@@ -36,7 +37,7 @@ struct IdaIntegrator::Sundials
   SUNContext context = nullptr;
   void *ida = nullptr;
   N_Vector y = nullptr, yp = nullptr, id = nullptr;
-  N_Vector atol = nullptr; ///< absolute tolerances (those of the multipliers: unused with 'auto')
+  N_Vector atol = nullptr; ///< absolute tolerances; infinite: not in the Newton test (error_weights)
   N_Vector weights = nullptr, errors = nullptr; ///< for count_step_limiter()
   SUNMatrix matrix = nullptr;
   SUNLinearSolver solver = nullptr;
@@ -117,25 +118,19 @@ struct IdaCallbacks
   /// 1e-10 and 1e-11 (doc/benchmarks.md). The bodies' normalisation multipliers (|p| = 1) keep
   /// the number (1e-2 for 'auto'): untested, a free flexible body's momentum drift at rtol 1e-10
   /// was 1.08e-9 instead of 6.2e-10. The first step after IDAInit / IDAReInit, whose size IDA
-  /// has not chosen yet when it asks for the weights, tests no multiplier.
+  /// has not chosen yet when it asks for the weights, tests no multiplier. Which multipliers are
+  /// tested is decided once, in initialize(): an untested one has an infinite atol (weight 0).
   static int error_weights(N_Vector y, N_Vector ewt, void *data)
   {
     auto *self = static_cast<IdaIntegrator *>(data);
     const double *yy = N_VGetArrayPointer(y), *atol = N_VGetArrayPointer(self->sun->atol);
     double *w = N_VGetArrayPointer(ewt);
     const double rtol = self->settings.relative_tolerance;
-    const unsigned int n = N_VGetLength(y), m0 = self->system.n_q() + self->system.n_v();
     long steps = 0;
     IDAGetNumSteps(self->sun->ida, &steps);
-    for (unsigned int i = 0; i < m0; ++i) w[i] = 1 / (rtol * std::abs(yy[i]) + atol[i]);
-    // The joints' multipliers (lambda, then the joints' mu) come first; the bodies' normalisation
-    // multipliers (|p| = 1) after them stay tested with the number (1e-2 for 'auto').
-    const unsigned int normalisation = m0 + 2 * self->system.n_lambda();
-    for (unsigned int i = m0; i < n; ++i)
-      {
-        const bool tested = steps > 0 && (i >= normalisation || !self->settings.automatic_multiplier_tolerance);
-        w[i] = tested ? 1 / (rtol * std::abs(yy[i]) + atol[i]) : 0.0;
-      }
+    const unsigned int n = N_VGetLength(y), tested = steps > 0 ? n : self->system.n_q() + self->system.n_v();
+    for (unsigned int i = 0; i < tested; ++i) w[i] = 1 / (rtol * std::abs(yy[i]) + atol[i]);
+    for (unsigned int i = tested; i < n; ++i) w[i] = 0;
     return 0;
   }
 
@@ -192,11 +187,17 @@ void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
   IDASetErrHandlerFn(sun->ida, IdaCallbacks::error_handler, this);
   IDAInit(sun->ida, IdaCallbacks::residual, t0, sun->y, sun->yp);
   IDASetUserData(sun->ida, this);
+  // The multipliers after the positions and velocities: lambda, then mu - the joints' rows first,
+  // then the bodies' |p| = 1 rows (System::layout_multipliers). With 'auto' the joints' ones are
+  // left out of the Newton test (error_weights).
   sun->atol = N_VClone(sun->y);
+  const sunindextype normalisation = system.n_q() + system.n_v() + 2 * system.n_lambda();
   for (sunindextype i = 0; i < n; ++i)
-    N_VGetArrayPointer(sun->atol)[i] = id[i] == 0                 ? settings.multiplier_tolerance
-                                       : i < sunindextype(system.n_q()) ? settings.absolute_tolerance
-                                                                        : settings.velocity_tolerance_of(i - system.n_q());
+    N_VGetArrayPointer(sun->atol)[i] =
+      id[i] != 0                        ? (i < sunindextype(system.n_q()) ? settings.absolute_tolerance
+                                                                          : settings.velocity_tolerance_of(i - system.n_q()))
+      : settings.automatic_multiplier_tolerance && i < normalisation ? std::numeric_limits<double>::infinity()
+                                                                      : settings.multiplier_tolerance;
   IDAWFtolerances(sun->ida, IdaCallbacks::error_weights);
   IDASetId(sun->ida, sun->id);
   IDASetSuppressAlg(sun->ida, SUNTRUE);
