@@ -3,6 +3,7 @@
 #include <multibody/linearization.h>
 #include <multibody/redundancy.h>
 #include <multibody/static_equilibrium.h>
+#include <multibody/static_stiffness.h>
 
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/lapack_full_matrix.h>
@@ -21,45 +22,6 @@ namespace
 const char *const entry = "Multibody/Initial state";
 
 double max_abs(const Vector<double> &v) { return v.size() ? v.linfty_norm() : 0.0; }
-
-/// r = (B^T lambda - Q, Phi) at the positions of @p y (velocities zero) and @p lambda.
-void static_residual(const System &system, const double t0, const Vector<double> &y, const Vector<double> &lambda,
-                     Vector<double> &r)
-{
-  const unsigned int nv = system.n_v(), nl = system.n_lambda();
-  Vector<double> Q, phi, phi_t;
-  FullMatrix<double> B;
-  system.generalized_forces(t0, y, Q);
-  system.constraints(t0, y, false, phi, B, phi_t);
-  r.reinit(nv + nl);
-  for (unsigned int i = 0; i < nv; ++i) r[i] = -Q[i];
-  for (unsigned int k = 0; k < nl; ++k)
-    {
-      for (unsigned int i = 0; i < nv; ++i) r[i] += B(k, i) * lambda[k];
-      r[nv + k] = phi[k];
-    }
-}
-
-/// K = d(B^T lambda - Q)/dx (nv x nv) at @p y by central differences of step @p h along the
-/// velocity coordinates (positions moved by System::move_positions), and B at @p y.
-void static_stiffness(const System &system, const double t0, const Vector<double> &y, const Vector<double> &lambda,
-                      const double h, FullMatrix<double> &K, FullMatrix<double> &B)
-{
-  const unsigned int nv = system.n_v();
-  Vector<double> phi, phi_t, r_plus, r_minus;
-  system.constraints(t0, y, false, phi, B, phi_t);
-  for (unsigned int c = 0; c < nv; ++c)
-    {
-      Vector<double> dx(nv), y_plus(y), y_minus(y);
-      dx[c] = h;
-      system.move_positions(y_plus, dx);
-      dx[c] = -h;
-      system.move_positions(y_minus, dx);
-      static_residual(system, t0, y_plus, lambda, r_plus);
-      static_residual(system, t0, y_minus, lambda, r_minus);
-      for (unsigned int i = 0; i < nv; ++i) K(i, c) = (r_plus[i] - r_minus[i]) / (2 * h);
-    }
-}
 
 /// The name of residual row @p i: a generalised force or a joint's position constraint.
 std::string row_name(const System &system, const unsigned int i)
@@ -330,7 +292,6 @@ EquilibriumReport solve_static_equilibrium(System &system, const double t0, Vect
   };
 
   FullMatrix<double> K(nv, nv), B, M;
-  const double h = 1e-6;
   unsigned int it = 0;
   bool last_singular = false; // the last tangent was singular (and unbalanced along it)
   std::string singular_along;
@@ -342,8 +303,8 @@ EquilibriumReport solve_static_equilibrium(System &system, const double t0, Vect
       // One tangent at least, also when the start is balanced already: a slider on a level guide
       // is in equilibrium anywhere, and only the singular tangent tells.
       if (it > 0 && converged(r)) break;
-      // Tangent: K_T by central differences of r_f, B and B^T analytic.
-      static_stiffness(system, t0, y, lambda, h, K, B);
+      // Tangent: K_T from the DAE Jacobian (static_stiffness.h), B and B^T analytic.
+      static_stiffness(system, t0, y, lambda, K, B);
       const ScaledMatrix S(augmented(K, B));
       row_scale = S.row_scale;
       const double m0 = merit(r);
@@ -438,7 +399,7 @@ EquilibriumReport solve_static_equilibrium(System &system, const double t0, Vect
       throw InputError(entry, s.str());
     }
   // Balanced, but is it unique? A tangent singular at the equilibrium found is a mechanism too.
-  static_stiffness(system, t0, y, lambda, h, K, B);
+  static_stiffness(system, t0, y, lambda, K, B);
   {
     const ScaledMatrix S(augmented(K, B));
     if (S.singular(settings.singular_tolerance)) refuse_as_mechanism(S);

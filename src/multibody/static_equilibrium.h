@@ -11,7 +11,8 @@
 //   r_c = Phi(q, t0)                       = 0      (active joint equations [m or -])
 // solved by a damped Newton iteration on
 //   [K_T  B^T] [dx     ]     [r_f]
-//   [B    0  ] [dlambda] = - [r_c],      K_T = d r_f / dx (central differences, h = 1e-6),
+//   [B    0  ] [dlambda] = - [r_c],      K_T = d r_f / dx (from the DAE Jacobian:
+//                                          multibody/static_stiffness.h),
 // with a backtracking line search on the scaled residual norm (steps halved until it
 // decreases) and every step limited to 0.5 rad of rotation. The matrix is equilibrated (rows and
 // columns by their largest entries) and factorised by SVD.

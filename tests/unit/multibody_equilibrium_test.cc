@@ -12,6 +12,7 @@
 #include <fem/body_model.h>
 #include <io/body_scene.h>
 #include <multibody/force.h>
+#include <multibody/static_stiffness.h>
 #include <reduction/component_modes.h>
 #include <reduction/reduced_body_builder.h>
 
@@ -230,4 +231,60 @@ TEST(MultibodyEquilibrium, load_beyond_what_the_structure_holds_is_refused_namin
       EXPECT_NE(m.find("no equilibrium found"), std::string::npos); // names the worst residual component
       EXPECT_NE(m.find("joint pivot"), std::string::npos);
     }
+}
+
+// The tangent of the static equilibrium iteration is taken from the DAE Jacobian (analytic
+// bodies, joints and forces differenced over their own columns; multibody/static_stiffness.h).
+// Oracle: central differences of the static residual over every velocity coordinate, step
+// 1e-6 (truncation O(h^2) and rounding O(eps / h), both about 1e-10 relative). Tolerance: 1e-6
+// of the largest entry, as the element Jacobian tests allow for differenced blocks.
+TEST(MultibodyEquilibrium, static_stiffness_from_the_dae_jacobian_equals_differences)
+{
+  auto check = [](System &s, const Vector<double> &y, const Vector<double> &lambda, const std::string &what) {
+    FullMatrix<double> K, K_diff, B, B_diff;
+    static_stiffness(s, 0.0, y, lambda, K, B);
+    static_stiffness_by_differences(s, 0.0, y, lambda, 1e-6, K_diff, B_diff);
+    ASSERT_EQ(K.m(), s.n_v());
+    double largest = 0, deviation = 0;
+    for (unsigned int i = 0; i < K.m(); ++i)
+      for (unsigned int j = 0; j < K.n(); ++j)
+        {
+          largest = std::max(largest, std::abs(K_diff(i, j)));
+          deviation = std::max(deviation, std::abs(K(i, j) - K_diff(i, j)));
+        }
+    std::cout << what << ": largest entry " << largest << ", largest deviation " << deviation << "\n";
+    EXPECT_GT(largest, 0.0);
+    EXPECT_LE(deviation, 1e-6 * largest) << what;
+  };
+  {
+    // A flexible cantilever on a fixed joint, bent and turned, with multipliers far from balance.
+    const auto beam = cantilever(4);
+    System s(Vector3({0, 0, -g}));
+    build_cantilever(s, beam);
+    Vector<double> y, lambda(s.n_lambda());
+    s.initial_guess(y);
+    const unsigned int q = s.q_offset(1);
+    const auto p = geometry::euler_parameters_from_rotation_vector(Vector3({0.2, -0.1, 0.3}));
+    for (unsigned int i = 0; i < 4; ++i) y[q + 3 + i] = p[i];
+    y[q] = 0.01, y[q + 1] = -0.02, y[q + 2] = 0.005;
+    for (unsigned int k = 0; k < beam->n_modes(); ++k) y[q + 7 + k] = 1e-3 * std::cos(1.0 + k);
+    for (unsigned int k = 0; k < lambda.size(); ++k) lambda[k] = 10.0 * std::sin(2.0 + k);
+    check(s, y, lambda, "flexible cantilever on a fixed joint");
+  }
+  {
+    // A rigid double pendulum (revolute joints about z) off its rest position, a spherical
+    // joint's worth of multipliers on each pin.
+    System s(Vector3({0, -9.81, 0}));
+    add_rigid(s, "upper", 1.5, diagonal(0.02, 0.03, 0.04), Vector3({0.3, -0.2, 0}),
+              geometry::euler_parameters_from_rotation_vector(Vector3({0, 0, 0.9})));
+    add_rigid(s, "lower", 0.7, diagonal(0.01, 0.01, 0.02), Vector3({0.8, -0.5, 0}),
+              geometry::euler_parameters_from_rotation_vector(Vector3({0, 0, 1.4})));
+    add_joint(s, "revolute", "top", "upper", "ground", Vector3(), Vector3({0, 0, 1}));
+    add_joint(s, "revolute", "middle", "lower", "upper", Vector3({0.6, -0.4, 0}), Vector3({0, 0, 1}));
+    s.finalize();
+    Vector<double> y, lambda(s.n_lambda());
+    s.initial_guess(y);
+    for (unsigned int k = 0; k < lambda.size(); ++k) lambda[k] = 5.0 * std::cos(0.5 + k);
+    check(s, y, lambda, "rigid double pendulum");
+  }
 }
