@@ -1,6 +1,7 @@
 // Linearisation about a state and the eigenvalues of the constrained system (linearization.h).
 #include <multibody/initial_conditions.h>
 #include <multibody/linearization.h>
+#include <multibody/static_stiffness.h>
 
 #include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/lapack_templates.h>
@@ -14,28 +15,6 @@
 namespace flextrack::multibody
 {
 using namespace dealii;
-
-namespace
-{
-/// R(x, v) = M(q) v'0 - Q(q, v, t) + B^T lambda0 at q = q0 (+) x.
-Vector<double> equations_of_motion(const System &s, const double t, const Vector<double> &y0, const Vector<double> &vp0,
-                                   const Vector<double> &lambda0, const Vector<double> &x, const Vector<double> &dv)
-{
-  Vector<double> y(y0);
-  s.move_positions(y, x);
-  for (unsigned int i = 0; i < s.n_v(); ++i) y[s.n_q() + i] += dv[i];
-  FullMatrix<double> M, B;
-  Vector<double> Q, phi, phi_t, R(s.n_v());
-  s.mass_matrix(y, M);
-  s.generalized_forces(t, y, Q, &vp0);
-  s.constraints(t, y, false, phi, B, phi_t);
-  M.vmult(R, vp0);
-  R -= Q;
-  if (B.m()) B.Tvmult_add(R, lambda0);
-  return R;
-}
-
-} // namespace
 
 FullMatrix<double> constraint_null_space(const FullMatrix<double> &B, const unsigned int n)
 {
@@ -62,33 +41,17 @@ FullMatrix<double> constraint_null_space(const FullMatrix<double> &B, const unsi
 }
 std::vector<LinearMode> linearize(System &system, const double t, const Vector<double> &y_in)
 {
-  const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda();
+  const unsigned int nv = system.n_v();
   Vector<double> y(y_in), yp;
   consistent_derivatives(system, t, y, yp);
-  Vector<double> vp0(nv), lambda0(nl);
-  for (unsigned int i = 0; i < nv; ++i) vp0[i] = yp[nq + i];
-  for (unsigned int r = 0; r < nl; ++r) lambda0[r] = y[nq + nv + r];
 
   FullMatrix<double> K(nv, nv), C(nv, nv), M, B;
   Vector<double> phi, phi_t;
   system.mass_matrix(y, M);
   system.constraints(t, y, false, phi, B, phi_t);
-  for (unsigned int c = 0; c < nv; ++c)
-    {
-      const double h = 1e-6;
-      Vector<double> x(nv), zero(nv);
-      x[c] = h;
-      const Vector<double> kp = equations_of_motion(system, t, y, vp0, lambda0, x, zero),
-                           cp = equations_of_motion(system, t, y, vp0, lambda0, zero, x);
-      x[c] = -h;
-      const Vector<double> km = equations_of_motion(system, t, y, vp0, lambda0, x, zero),
-                           cm = equations_of_motion(system, t, y, vp0, lambda0, zero, x);
-      for (unsigned int r = 0; r < nv; ++r)
-        {
-          K(r, c) = (kp[r] - km[r]) / (2 * h);
-          C(r, c) = (cp[r] - cm[r]) / (2 * h);
-        }
-    }
+  // K = dR/dx and C = dR/dv: the velocity rows of the DAE Jacobian at (y, y'), which holds
+  // v'0 and lambda0 (analytic bodies; joints and forces differenced over their own columns).
+  velocity_row_tangents(system, t, y, yp, K, &C);
   const FullMatrix<double> N = constraint_null_space(B, nv);
   const unsigned int nf = N.n();
   if (nf == 0) return {};

@@ -5,8 +5,9 @@
 // parameters stay normalised) and the residual of the equations of motion
 //   R(x, v) = M(q) v'0 - Q(q, v, t) + B(q)^T lambda0
 // (v'0, lambda0 from the index-1 system at the state), the stiffness K = dR/dx, the damping
-// C = dR/dv (central differences) and M are projected onto the null space N of the active
-// constraint Jacobian B (orthonormal, from the SVD of B: the motions the joints allow):
+// C = dR/dv (the DAE Jacobian's velocity rows: multibody/static_stiffness.h) and M are projected
+// onto the null space N of the active constraint Jacobian B (orthonormal, from the SVD of B: the
+// motions the joints allow):
 //   (N^T M N) x'' + (N^T C N) x' + (N^T K N) x = 0.
 // Its eigenvalues s = -zeta w +- i w sqrt(1 - zeta^2) give the frequencies |Im s| / 2 pi and the
 // damping ratios -Re s / |s|; Re s > 0 is an instability. N is taken constant (its derivative

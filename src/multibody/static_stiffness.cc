@@ -24,21 +24,15 @@ void static_residual(const System &system, const double t0, const Vector<double>
     }
 }
 
-void static_stiffness(System &system, const double t0, const Vector<double> &y, const Vector<double> &lambda,
-                      FullMatrix<double> &K, FullMatrix<double> &B)
+void velocity_row_tangents(System &system, const double t, const Vector<double> &y, const Vector<double> &yp,
+                           FullMatrix<double> &K, FullMatrix<double> *C)
 {
-  const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda();
-  Vector<double> phi, phi_t;
-  system.constraints(t0, y, false, phi, B, phi_t);
-  // The DAE state at rest: positions of y, v = 0, lambda, and mu = 0 (mu only enters the
-  // position rows, which are not used); y' = 0 and alpha = 0, so no mass term.
-  Vector<double> state(system.size()), rate(system.size());
-  for (unsigned int i = 0; i < nq; ++i) state[i] = y[i];
-  for (unsigned int k = 0; k < nl; ++k) state[nq + nv + k] = lambda[k];
-  system.assemble_jacobian(t0, 0.0, state, rate);
+  const unsigned int nq = system.n_q(), nv = system.n_v();
+  system.assemble_jacobian(t, 0.0, y, yp);
   const Epetra_CrsMatrix &J = system.jacobian();
-  // dF_v / dq, dense (n_v x n_q): a body's rows are dense in its own columns anyway.
+  // dF_v / dq and dF_v / dv, dense: a body's rows are dense in its own columns anyway.
   FullMatrix<double> J_vq(nv, nq);
+  if (C) C->reinit(nv, nv);
   for (unsigned int i = 0; i < nv; ++i)
     {
       int n_entries = 0;
@@ -46,7 +40,11 @@ void static_stiffness(System &system, const double t0, const Vector<double> &y, 
       int *columns = nullptr;
       J.ExtractMyRowView(nq + i, n_entries, values, columns); // serial map: local = global
       for (int e = 0; e < n_entries; ++e)
-        if (static_cast<unsigned int>(columns[e]) < nq) J_vq(i, columns[e]) = values[e];
+        {
+          const unsigned int c = columns[e];
+          if (c < nq) J_vq(i, c) = values[e];
+          else if (C && c < nq + nv) (*C)(i, c - nq) = values[e];
+        }
     }
   // Column c of T(q): the coordinate rates of the unit velocity e_c (at most four entries).
   K.reinit(nv, nv);
@@ -68,6 +66,20 @@ void static_stiffness(System &system, const double t0, const Vector<double> &y, 
           K(i, c) = sum;
         }
     }
+}
+
+void static_stiffness(System &system, const double t0, const Vector<double> &y, const Vector<double> &lambda,
+                      FullMatrix<double> &K, FullMatrix<double> &B)
+{
+  const unsigned int nq = system.n_q(), nv = system.n_v(), nl = system.n_lambda();
+  Vector<double> phi, phi_t;
+  system.constraints(t0, y, false, phi, B, phi_t);
+  // The DAE state at rest: positions of y, v = 0, lambda, and mu = 0 (mu only enters the
+  // position rows, which are not used); y' = 0 and alpha = 0, so no mass term.
+  Vector<double> state(system.size()), rate(system.size());
+  for (unsigned int i = 0; i < nq; ++i) state[i] = y[i];
+  for (unsigned int k = 0; k < nl; ++k) state[nq + nv + k] = lambda[k];
+  velocity_row_tangents(system, t0, state, rate, K, nullptr);
 }
 
 void static_stiffness_by_differences(const System &system, const double t0, const Vector<double> &y,

@@ -23,6 +23,14 @@ namespace flextrack::multibody
 void static_residual(const System &system, double t0, const dealii::Vector<double> &y,
                      const dealii::Vector<double> &lambda, dealii::Vector<double> &r);
 
+/// The velocity rows of the DAE Jacobian at the state (@p y, @p yp), alpha = 0: the stiffness
+/// K = (dF_v / dq) T(q) along the velocity coordinates and the damping C = dF_v / dv (each
+/// n_v x n_v; @p C may be nullptr), where F_v = M(q) v' - Q(q, v, v', t) + B(q)^T lambda. Used by
+/// the static tangent below and by linearize() (multibody/linearization.h). Assembles the
+/// system's Jacobian (its matrix is overwritten).
+void velocity_row_tangents(System &system, double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
+                           dealii::FullMatrix<double> &K, dealii::FullMatrix<double> *C);
+
 /// K_T (n_v x n_v) from the DAE Jacobian and B (active equations x n_v) at @p y, @p lambda.
 /// Assembles the system's Jacobian (its matrix is overwritten).
 void static_stiffness(System &system, double t0, const dealii::Vector<double> &y, const dealii::Vector<double> &lambda,
