@@ -10,12 +10,20 @@
 #include <Epetra_SerialComm.h>
 #include <Epetra_Vector.h>
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
 namespace flextrack::multibody
 {
-JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern)
+bool dense_factorisation_is_faster(const unsigned int n, const std::vector<unsigned int> &block_sizes)
+{
+  double blocks = 0;
+  for (const unsigned int m : block_sizes) blocks += std::pow(double(m), 3);
+  return n >= 1000 && 20 * blocks > std::pow(double(n), 3);
+}
+
+JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern, const bool dense)
 {
   const int n = pattern.size();
   comm = std::make_unique<Epetra_SerialComm>();
@@ -35,8 +43,9 @@ JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern)
   b_vec = std::make_unique<Epetra_Vector>(*map);
   problem = std::make_unique<Epetra_LinearProblem>(A.get(), x_vec.get(), b_vec.get());
   Amesos factory;
-  klu.reset(factory.Create("Amesos_Klu", *problem));
-  if (!klu) throw std::runtime_error("Amesos KLU is not available in this Trilinos");
+  const char *kind = dense ? "Amesos_Lapack" : "Amesos_Klu";
+  lu.reset(factory.Create(kind, *problem));
+  if (!lu) throw std::runtime_error(std::string(kind) + " is not available in this Trilinos");
 }
 
 JacobianSolver::~JacobianSolver() = default;
@@ -64,18 +73,18 @@ bool JacobianSolver::factorize()
 {
   if (!symbolic_done)
     {
-      if (klu->SymbolicFactorization() != 0) return false;
+      if (lu->SymbolicFactorization() != 0) return false;
       symbolic_done = true;
     }
   ++count;
-  return klu->NumericFactorization() == 0;
+  return lu->NumericFactorization() == 0;
 }
 
 void JacobianSolver::solve(const double *b, double *x)
 {
   const int n = map->NumMyElements();
   std::memcpy(b_vec->Values(), b, n * sizeof(double));
-  klu->Solve();
+  lu->Solve();
   std::memcpy(x, x_vec->Values(), n * sizeof(double));
 }
 } // namespace flextrack::multibody

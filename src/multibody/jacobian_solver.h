@@ -1,7 +1,9 @@
 // The sparse Jacobian of the DAE and its direct solver: an Epetra_CrsMatrix on an
 // Epetra_SerialComm (serial, so `flextrack run` needs no MPI_Init) with a pattern fixed at
-// construction, factorised by Amesos KLU. The symbolic factorisation (ordering) is computed once,
-// at the first factorisation, and reused: only the values change between Newton setups.
+// construction, factorised by Amesos KLU (sparse LU) or, for a system dominated by large dense
+// blocks, by Amesos' LAPACK dense LU (see dense_factorisation_is_faster). The symbolic
+// factorisation (ordering) is computed once, at the first factorisation, and reused: only the
+// values change between Newton setups.
 #pragma once
 
 #include <memory>
@@ -18,18 +20,27 @@ class Amesos_BaseSolver;
 
 namespace flextrack::multibody
 {
+/// Whether LAPACK's dense LU factorises a Jacobian of @p n unknowns faster than KLU, when the
+/// bodies' equations form dense blocks of @p block_sizes (each body's velocities: its rows are
+/// dense in its own coordinates). KLU's left-looking kernel, without BLAS, spends about
+/// sum m^3 operations on those blocks at a far lower rate than BLAS-3: the laser robot with its
+/// full FE bases (n = 2334, one block of 995) took 4.5 s per KLU factorisation (87 % of its
+/// run, 2026-12-02). Dense when n >= 1000 and 20 sum m^3 > n^3 (20: the measured speed ratio,
+/// rounded down); every scene of the test suite has n < 1000, or small blocks, and stays on KLU.
+bool dense_factorisation_is_faster(unsigned int n, const std::vector<unsigned int> &block_sizes);
+
 class JacobianSolver
 {
 public:
-  /// @p pattern[row]: the columns of row.
-  explicit JacobianSolver(const std::vector<std::set<int>> &pattern);
+  /// @p pattern[row]: the columns of row; @p dense: factorise by LAPACK's dense LU, not KLU.
+  explicit JacobianSolver(const std::vector<std::set<int>> &pattern, bool dense = false);
   ~JacobianSolver();
   void zero();
   /// A(rows[i], cols[k]) += block[i * cols.size() + k].
   void add(const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols, const double *block);
   void add(unsigned int row, unsigned int col, double value);
   const Epetra_CrsMatrix &matrix() const { return *A; }
-  /// false if KLU finds the matrix singular.
+  /// false if the factorisation finds the matrix singular.
   bool factorize();
   void solve(const double *b, double *x);
   unsigned long n_factorizations() const { return count; }
@@ -41,7 +52,7 @@ private:
   std::unique_ptr<Epetra_CrsMatrix> A;
   std::unique_ptr<Epetra_Vector> x_vec, b_vec;
   std::unique_ptr<Epetra_LinearProblem> problem;
-  std::unique_ptr<Amesos_BaseSolver> klu;
+  std::unique_ptr<Amesos_BaseSolver> lu;
   bool symbolic_done = false;
   unsigned long count = 0;
   std::vector<int> index_buffer;

@@ -3,6 +3,7 @@
 #include <base/text.h>
 #include <multibody/generalized_alpha.h>
 #include <multibody/ida_integrator.h>
+#include <multibody/jacobian_solver.h>
 #include <multibody/time_integrator.h>
 
 #include <algorithm>
@@ -153,6 +154,13 @@ std::string choose_automatic_settings(const System &system, IntegratorSettings &
   if (settings.automatic_multiplier_tolerance && settings.method == IntegrationMethod::ida)
     note << (note.tellp() > 0 ? "; " : "")
          << "the joints' multipliers not in the Newton test (their error reaches the velocities, which are tested)";
+  // The factorisation of the Jacobian (multibody/jacobian_solver.h): said when it is not KLU.
+  std::vector<unsigned int> blocks;
+  for (unsigned int b = 0; b < system.n_bodies(); ++b) blocks.push_back(system.body(b).n_v());
+  if (dense_factorisation_is_faster(system.size(), blocks))
+    note << (note.tellp() > 0 ? "; " : "") << "the Jacobian (" << system.size() << " unknowns, a dense block of "
+         << *std::max_element(blocks.begin(), blocks.end())
+         << ") factorised by LAPACK's dense LU, not the sparse KLU (faster for large dense blocks)";
   return note.str();
 }
 
