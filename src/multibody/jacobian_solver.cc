@@ -1,5 +1,6 @@
 // Epetra matrix and Amesos KLU factorisation of the DAE Jacobian (jacobian_solver.h).
 #include <multibody/jacobian_solver.h>
+#include <multibody/system.h>
 
 #include <Amesos.h>
 #include <Amesos_BaseSolver.h>
@@ -16,10 +17,11 @@
 
 namespace flextrack::multibody
 {
-bool dense_factorisation_is_faster(const unsigned int n, const std::vector<unsigned int> &block_sizes)
+bool dense_factorisation_is_faster(const System &system)
 {
   double blocks = 0;
-  for (const unsigned int m : block_sizes) blocks += std::pow(double(m), 3);
+  for (unsigned int b = 0; b < system.n_bodies(); ++b) blocks += std::pow(double(system.body(b).n_v()), 3);
+  const unsigned int n = system.size();
   return n >= 1000 && 20 * blocks > std::pow(double(n), 3);
 }
 

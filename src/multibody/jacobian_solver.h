@@ -20,14 +20,16 @@ class Amesos_BaseSolver;
 
 namespace flextrack::multibody
 {
-/// Whether LAPACK's dense LU factorises a Jacobian of @p n unknowns faster than KLU, when the
-/// bodies' equations form dense blocks of @p block_sizes (each body's velocities: its rows are
+class System;
+
+/// Whether LAPACK's dense LU factorises the Jacobian of @p system (n unknowns) faster than KLU,
+/// given the dense blocks its bodies' equations form (m = each body's velocities: its rows are
 /// dense in its own coordinates). KLU's left-looking kernel, without BLAS, spends about
 /// sum m^3 operations on those blocks at a far lower rate than BLAS-3: the laser robot with its
 /// full FE bases (n = 2334, one block of 995) took 4.5 s per KLU factorisation (87 % of its
 /// run, 2026-12-02). Dense when n >= 1000 and 20 sum m^3 > n^3 (20: the measured speed ratio,
 /// rounded down); every scene of the test suite has n < 1000, or small blocks, and stays on KLU.
-bool dense_factorisation_is_faster(unsigned int n, const std::vector<unsigned int> &block_sizes);
+bool dense_factorisation_is_faster(const System &system);
 
 class JacobianSolver
 {

@@ -154,9 +154,7 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
         }
       for (unsigned int f = 0; f < forces.size(); ++f) add(force_elements[f].rows, force_elements[f].columns);
       for (unsigned int i = 0; i < size(); ++i) pattern[i].insert(i); // diagonal, also for unused multipliers
-      std::vector<unsigned int> blocks;
-      for (const auto &b : bodies) blocks.push_back(b.body->n_v());
-      solver = std::make_unique<JacobianSolver>(pattern, dense_factorisation_is_faster(size(), blocks));
+      solver = std::make_unique<JacobianSolver>(pattern, dense_factorisation_is_faster(*this));
     }
   ++jacobian_count;
   solver->zero();

@@ -155,12 +155,13 @@ std::string choose_automatic_settings(const System &system, IntegratorSettings &
     note << (note.tellp() > 0 ? "; " : "")
          << "the joints' multipliers not in the Newton test (their error reaches the velocities, which are tested)";
   // The factorisation of the Jacobian (multibody/jacobian_solver.h): said when it is not KLU.
-  std::vector<unsigned int> blocks;
-  for (unsigned int b = 0; b < system.n_bodies(); ++b) blocks.push_back(system.body(b).n_v());
-  if (dense_factorisation_is_faster(system.size(), blocks))
-    note << (note.tellp() > 0 ? "; " : "") << "the Jacobian (" << system.size() << " unknowns, a dense block of "
-         << *std::max_element(blocks.begin(), blocks.end())
-         << ") factorised by LAPACK's dense LU, not the sparse KLU (faster for large dense blocks)";
+  if (dense_factorisation_is_faster(system))
+    {
+      unsigned int largest = 0;
+      for (unsigned int b = 0; b < system.n_bodies(); ++b) largest = std::max(largest, system.body(b).n_v());
+      note << (note.tellp() > 0 ? "; " : "") << "the Jacobian (" << system.size() << " unknowns, a dense block of "
+           << largest << ") factorised by LAPACK's dense LU, not the sparse KLU (faster for large dense blocks)";
+    }
   return note.str();
 }
 
