@@ -48,9 +48,9 @@ set_tests_properties(fuzz_regression_inputs_are_refused_cleanly PROPERTIES LABEL
 
 # Reproducibility (issue 11, item 4): the same run twice gives bitwise the same CSV files and
 # HDF5 datasets (a rigid mechanism, a flexible body reduced afresh, a reduction alone), about
-# 10 s. A reduction under mpirun is not compared: 'flextrack reduce' refuses to run under mpirun
-# (badinput_scene_mpirun_reduce); the partitioned solid under mpirun -np 2 is compared with the
-# serial one by cli_solid_under_mpi_matches_serial (expect_mpi_matches_serial.cmake).
+# 10 s. Runs under mpirun are compared with serial ones instead (same to round-off, not bitwise:
+# another factorisation): the partitioned solid by cli_solid_under_mpi_matches_serial, the
+# distributed reduction by cli_reduce_under_mpi_matches_serial_* (tests/mpi/).
 add_test(NAME stress_reruns_are_bitwise_identical
   COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/expect_identical_reruns.py $<TARGET_FILE:flextrack>
           ${CMAKE_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR}/reruns)

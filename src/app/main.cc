@@ -52,6 +52,8 @@ Usage:
                                      and observed order of convergence of every frequency
   flextrack reduce FILE.prm [-o DIR] reduce the flexible body of a 'Model = body' scene to
                                      DIR/reduced_body.h5 (reused while its inputs are unchanged)
+  mpirun -np N flextrack reduce ...  the same, factorised (MUMPS) and solved (PARPACK) on N
+                                     processes, for bodies whose factor outgrows one process
   flextrack static FILE.prm [-o DIR] linear static solution of an arm or solid under the scene's
                                      load cases: displacements, reactions, strain energy
   flextrack inspect BODY.h5          print what a reduced body file holds

@@ -3,6 +3,7 @@
 // flextrack inspect: print what a reduced body file holds.
 #include <app/commands.h>
 #include <base/input_error.h>
+#include <base/mpi_session.h>
 #include <io/body_export.h>
 #include <io/body_scene.h>
 #include <io/output_folder.h>
@@ -47,16 +48,9 @@ void print_reduced_body(const reduction::ReducedBody &b)
 
 int reduce_command(const Options &options, const io::SceneFile &file)
 {
-  // The reduction runs on one process (it builds one body and writes one file); under mpirun
-  // every rank would fail or write the same file. Say so once, from the first rank.
-  if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
-    {
-      if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
-        std::cerr << "flextrack: reduce runs serially: start it without mpirun (only 'modes' of an arm or a "
-                     "solid scene runs on several processes)"
-                  << std::endl;
-      return 1;
-    }
+  // Under mpirun the reduction is distributed (its factorisation and eigen solve); the first
+  // process writes the body and the results, the others only take part.
+  const unsigned int n_processes = base::fe_processes();
   CommandClock clock;
   auto &timer = clock.timer;
   io::BodyScene scene;
@@ -67,8 +61,15 @@ int reduce_command(const Options &options, const io::SceneFile &file)
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
   const std::string body_file = out.path() + "/reduced_body.h5";
   std::cout << "flextrack reduce: " << options.file << " (input hash " << scene.input_hash << ")" << std::endl;
+  if (n_processes > 1)
+    std::cout << "  distributed over " << n_processes << " processes (MPI): MUMPS factorises, PARPACK solves the "
+              << "eigenproblem; every process holds the whole body model" << std::endl;
   const auto obtained = io::cached_or_reduced_body(scene, body_file, std::cout, timer);
   const auto &body = obtained.body;
+  // Each process' peak so far (the reduction's), for the memory a distributed run needs.
+  std::vector<double> peaks{io::peak_memory_mib()};
+  if (n_processes > 1) peaks = Utilities::MPI::all_gather(base::fe_communicator(), peaks[0]);
+  if (!io::is_first_process()) return 0;
 
   // Text results and exports (also after a cache hit: they describe this run).
   std::vector<std::string> exported;
@@ -87,6 +88,7 @@ int reduce_command(const Options &options, const io::SceneFile &file)
     .add("input_hash", scene.input_hash)
     .raw("loaded_from_cache", obtained.from_cache ? "true" : "false")
     .add("method", body.method)
+    .add("mpi_processes", n_processes)
     .add("body_degrees_of_freedom", body.n_body_dofs)
     .add("modes", body.n_modes())
     .add("frequencies_Hz", body.frequencies_hz)
@@ -95,6 +97,7 @@ int reduce_command(const Options &options, const io::SceneFile &file)
     .add("wall_time_s", io::timings_json(timer))
     .add("total_wall_time_s", clock.total_for_summary())
     .add("peak_memory_MiB", io::peak_memory_mib())
+    .add("peak_memory_per_process_MiB", peaks)
     .raw("parameters", io::parameters_as_json(*scene.parameters));
   out.add_summary(summary);
   out.commit();
@@ -102,6 +105,17 @@ int reduce_command(const Options &options, const io::SceneFile &file)
   print_reduced_body(body);
   std::cout << "\n";
   print_timings(clock);
+  if (n_processes > 1)
+    {
+      double sum = 0;
+      std::cout << "  peak memory per process [MiB]:";
+      for (const double p : peaks)
+        {
+          std::cout << " " << std::setprecision(4) << p;
+          sum += p;
+        }
+      std::cout << "; " << sum << " in all\n";
+    }
   std::cout << "  results in " << out.path() << "/ (reduced_body.h5, frequencies.csv, summary.json";
   for (const auto &f : exported) std::cout << ", " << f;
   std::cout << ")" << std::endl;

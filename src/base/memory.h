@@ -6,7 +6,16 @@
 //    Epetra's row-wise scratch and the workspace of a fill-reducing ordering are many small
 //    blocks; freed, glibc keeps them resident (it returns only the top of the heap by itself),
 //    and a factorisation that follows would add its factor on top of them.
+//  - check_memory_for: refuses, before it starts, a factorisation whose estimated size will not
+//    fit in the memory the machine has left, with a message that says what would fit.
 #pragma once
+
+#include <base/mpi_session.h>
+#include <base/solver_error.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
 
 #include <cstdlib>
 #include <fstream>
@@ -38,5 +47,99 @@ inline void release_free_heap()
 #ifdef __GLIBC__
   malloc_trim(0);
 #endif
+}
+
+namespace memory_detail
+{
+/// The first number of @p file after @p key (a line "key value"), or -1.
+inline double read_number(const char *file, const std::string &key = "")
+{
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0)
+      {
+        std::istringstream rest(line.substr(key.size()));
+        double value = -1;
+        return (rest >> value) ? value : -1;
+      }
+  return -1;
+}
+} // namespace memory_detail
+
+/// Resident memory of this process now [bytes].
+inline double resident_bytes() { return 1024.0 * std::max(0.0, memory_detail::read_number("/proc/self/status", "VmRSS:")); }
+
+/// Memory this machine can still give [bytes]: MemAvailable of /proc/meminfo, capped by the
+/// control group's limit (a batch job's share: cgroup v2 memory.max less memory.current) and by
+/// the environment variable FLEXTRACK_MEMORY_LIMIT (GiB that FlexTrack's processes on this
+/// machine may use in all) less @p used_here [bytes], what they hold already.
+inline double available_memory_bytes(const double used_here)
+{
+  double available = 1024.0 * memory_detail::read_number("/proc/meminfo", "MemAvailable:");
+  if (!(available > 0)) available = HUGE_VAL;
+  const double limit = memory_detail::read_number("/sys/fs/cgroup/memory.max"); // -1 for "max"
+  const double current = memory_detail::read_number("/sys/fs/cgroup/memory.current");
+  if (limit > 0 && current >= 0) available = std::min(available, limit - current);
+  if (const char *cap = std::getenv("FLEXTRACK_MEMORY_LIMIT"); cap && *cap)
+    {
+      char *end = nullptr;
+      const double gib = std::strtod(cap, &end);
+      if (end != cap && gib > 0) available = std::min(available, gib * 1073741824.0 - used_here);
+    }
+  return std::max(available, 0.0);
+}
+
+/// Refuses a step that needs about @p bytes more on this process: throws SolverError, with what
+/// would fit, when the processes of one machine together need more than it has available. With
+/// @p communicator (a collective step: every process of it calls this), the machines are the
+/// shared-memory groups of its processes and every process throws the same error; without it,
+/// this process alone is checked.
+inline void check_memory_for(const std::string &what, const double bytes, const MPI_Comm *communicator = nullptr)
+{
+  constexpr double GiB = 1073741824.0;
+  int n_processes = 1;
+  double need_here = bytes, used_here = resident_bytes(), per_process = bytes;
+  double available = 0, total = bytes;
+  bool collective = communicator && fe_processes() > 1;
+  if (collective) MPI_Comm_size(*communicator, &n_processes);
+  collective = collective && n_processes > 1;
+  if (collective)
+    {
+      MPI_Comm machine;
+      MPI_Comm_split_type(*communicator, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &machine);
+      MPI_Allreduce(&bytes, &need_here, 1, MPI_DOUBLE, MPI_SUM, machine);
+      const double mine = resident_bytes();
+      MPI_Allreduce(&mine, &used_here, 1, MPI_DOUBLE, MPI_SUM, machine);
+      MPI_Comm_free(&machine);
+      available = available_memory_bytes(used_here);
+      // The machine that lacks most decides; every process reports its numbers.
+      double shortfall = need_here - available, worst = 0;
+      MPI_Allreduce(&shortfall, &worst, 1, MPI_DOUBLE, MPI_MAX, *communicator);
+      double values[3] = {shortfall == worst ? need_here : 0, shortfall == worst ? available : 0, bytes};
+      double global[3];
+      MPI_Allreduce(values, global, 3, MPI_DOUBLE, MPI_MAX, *communicator);
+      need_here = global[0];
+      available = global[1];
+      per_process = global[2];
+      MPI_Allreduce(&bytes, &total, 1, MPI_DOUBLE, MPI_SUM, *communicator);
+    }
+  else
+    available = available_memory_bytes(used_here);
+  if (need_here <= available) return;
+  std::ostringstream m;
+  m.precision(3);
+  m << what << " needs about " << per_process / GiB << " GiB per process with " << n_processes << " process"
+    << (n_processes > 1 ? "es" : "") << " (" << need_here / GiB << " GiB on one machine), but only "
+    << available / GiB << " GiB are available there; nothing was factorised. ";
+  // The processes share the factor: machines like this one, one process on each, hold it when
+  // each has room for its part (the whole model is on every process, and resident here already).
+  if (available > 1e-3 * total)
+    m << "The factor is about " << total / GiB << " GiB in all, which the processes share: run on about "
+      << std::ceil(total / available) << " machines like this one, one process on each (mpirun), ";
+  else
+    m << "Free memory on this machine, run on machines with more memory (mpirun, one process on each), ";
+  m << "or use a coarser mesh (FLEXTRACK_MEMORY_LIMIT [GiB], if set, caps the memory assumed available)";
+  throw SolverError(m.str());
 }
 } // namespace flextrack::base

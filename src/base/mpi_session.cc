@@ -21,6 +21,31 @@ MPI_Comm fe_communicator() { return fe_comm; }
 
 void use_own_process_for_fe() { fe_comm = MPI_COMM_SELF; }
 
+namespace
+{
+bool mpi_running()
+{
+  int started = 0, finished = 0;
+  MPI_Initialized(&started);
+  MPI_Finalized(&finished);
+  return started && !finished;
+}
+} // namespace
+
+unsigned int fe_processes()
+{
+  int size = 1;
+  if (mpi_running()) MPI_Comm_size(fe_comm, &size);
+  return static_cast<unsigned int>(size);
+}
+
+unsigned int fe_rank()
+{
+  int rank = 0;
+  if (mpi_running()) MPI_Comm_rank(fe_comm, &rank);
+  return static_cast<unsigned int>(rank);
+}
+
 std::string prepare_singleton_mpi()
 {
   if (started_by_mpirun()) return "";

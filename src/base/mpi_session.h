@@ -28,4 +28,8 @@ bool started_by_mpirun();
 /// cases of its own and sets MPI_COMM_SELF (use_own_process_for_fe()).
 MPI_Comm fe_communicator();
 void use_own_process_for_fe();
+/// The number of processes of fe_communicator() and this process' rank in it: 1 and 0 in a
+/// process that has not started MPI (a serial 'run' does not, to start faster).
+unsigned int fe_processes();
+unsigned int fe_rank();
 } // namespace flextrack::base

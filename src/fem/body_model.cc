@@ -39,8 +39,8 @@ BodyModel::~BodyModel() = default;
 
 BodyModel::BodyModel(const Body &body) : description(body)
 {
-  AssertThrow(Utilities::MPI::n_mpi_processes(base::fe_communicator()) == 1,
-              ExcMessage("a flexible body is reduced serially; run without mpirun"));
+  // Every process of a distributed reduction builds the whole model (its matrices live on
+  // MPI_COMM_SELF); the reduction distributes the rows it factorises (reduction/component_modes.cc).
   // Each arm gets a mesh node at every interface on it; supports stay out of the matrices and
   // are applied with the ties.
   for (unsigned int a = 0; a < body.arms.size(); ++a)
@@ -53,7 +53,7 @@ BodyModel::BodyModel(const Body &body) : description(body)
   unsigned int offset = 0;
   if (body.solid)
     {
-      solid = std::make_unique<SolidModel>(*body.solid, 0, false);
+      solid = std::make_unique<SolidModel>(*body.solid, 0, false, true, MPI_COMM_SELF);
       offset = solid->n_dofs();
     }
   for (const auto &arm : arms)

@@ -38,14 +38,22 @@ void CsrMatrix::add(const unsigned int row, const int column, const double v)
 
 void CsrMatrix::to_trilinos(dealii::TrilinosWrappers::SparseMatrix &result) const
 {
-  const Epetra_MpiComm comm(MPI_COMM_SELF);
-  const Epetra_Map map(static_cast<int>(n_rows), 0, comm);
+  to_trilinos(result, 0, n_rows, MPI_COMM_SELF);
+}
+
+void CsrMatrix::to_trilinos(dealii::TrilinosWrappers::SparseMatrix &result, const unsigned int first_row,
+                            const unsigned int n_global, const MPI_Comm communicator) const
+{
+  const Epetra_MpiComm comm(communicator);
+  const Epetra_Map map(static_cast<int>(n_global), static_cast<int>(n_rows), 0, comm);
+  AssertThrow(map.MinMyGID() == static_cast<int>(first_row) || n_rows == 0,
+              dealii::ExcMessage("the row blocks of a distributed matrix must follow the ranks"));
   std::vector<int> lengths(n_rows);
   for (unsigned int r = 0; r < n_rows; ++r) lengths[r] = row_start[r + 1] - row_start[r];
   Epetra_CrsMatrix A(Copy, map, lengths.data(), true);
   for (unsigned int r = 0; r < n_rows; ++r)
     if (lengths[r] > 0)
-      A.InsertGlobalValues(r, lengths[r], values.data() + row_start[r], columns.data() + row_start[r]);
+      A.InsertGlobalValues(first_row + r, lengths[r], values.data() + row_start[r], columns.data() + row_start[r]);
   A.FillComplete();
   result.reinit(A);
 }

@@ -23,5 +23,10 @@ struct CsrMatrix
   void add(unsigned int row, int column, double v);
   /// The same matrix in @p result (serial, on MPI_COMM_SELF).
   void to_trilinos(dealii::TrilinosWrappers::SparseMatrix &result) const;
+  /// These rows as rows first_row ... first_row + n_rows - 1 of a square matrix of
+  /// @p n_global rows distributed over @p communicator (each process passes its own block; the
+  /// blocks follow each other in the order of the ranks).
+  void to_trilinos(dealii::TrilinosWrappers::SparseMatrix &result, unsigned int first_row, unsigned int n_global,
+                   MPI_Comm communicator) const;
 };
 } // namespace flextrack::fem

@@ -49,9 +49,9 @@ Point<3> coarse_coordinates(Triangulation<3>::cell_iterator cell, Point<3> p)
 } // namespace
 
 SolidModel::SolidModel(const Solid &solid, const unsigned int refinement, const bool constrain_matrices,
-                       const bool with_mass)
+                       const bool with_mass, const MPI_Comm communicator)
   : body(solid), level(refinement), constrained_assembly(constrain_matrices), assemble_mass(with_mass),
-    tria(base::fe_communicator(), Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis),
+    tria(communicator, Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis),
     geometry_fe(FE_Serendipity<3>(), 3), fe(make_element(solid.element))
 {
   tria.copy_triangulation(body.mesh->triangulation);
@@ -345,7 +345,7 @@ void SolidModel::assemble()
         applied.add_entries_local_to_global(cell_dofs, pattern, false);
       }
     const IndexSet &owned = dofs.locally_owned_dofs();
-    stiffness.reinit(owned, owned, pattern, base::fe_communicator());
+    stiffness.reinit(owned, owned, pattern, tria.get_communicator());
   }
   // M has K's pattern and shares K's graph (Epetra counts references): one copy of the column
   // indices instead of two, a third of a matrix.

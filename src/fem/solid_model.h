@@ -12,6 +12,7 @@
 // distributed Trilinos matrices.
 #pragma once
 
+#include <base/mpi_session.h>
 #include <fem/load_case.h>
 #include <fem/solid.h>
 #include <fem/solid_mass_operator.h>
@@ -38,8 +39,11 @@ public:
   /// @p constrain_matrices false the supports are only listed in constraints(), and K and M are
   /// those of the free body (a flexible body applies them with its ties, fem/body_model.h).
   /// With @p with_mass false, M is not assembled (mass_matrix() is empty): linear statics need K
-  /// only, and M would be a third of the memory before the factorisation.
-  SolidModel(const Solid &solid, unsigned int refinement = 0, bool constrain_matrices = true, bool with_mass = true);
+  /// only, and M would be a third of the memory before the factorisation. The mesh is shared
+  /// over @p communicator: MPI_COMM_SELF keeps the whole model on this process (a flexible body,
+  /// which every process of a distributed reduction builds whole, fem/body_model.h).
+  SolidModel(const Solid &solid, unsigned int refinement = 0, bool constrain_matrices = true, bool with_mass = true,
+             MPI_Comm communicator = base::fe_communicator());
 
   const dealii::DoFHandler<3> &dof_handler() const { return dofs; }
   const dealii::Mapping<3> &mapping() const { return *map; }

@@ -39,15 +39,7 @@ void write_file(const std::string &path, const std::string &text, const std::str
 }
 } // namespace
 
-bool is_first_process()
-{
-  int started = 0;
-  MPI_Initialized(&started);
-  if (!started) return true;
-  int rank = 0;
-  MPI_Comm_rank(base::fe_communicator(), &rank);
-  return rank == 0;
-}
+bool is_first_process() { return base::fe_rank() == 0; }
 
 void write_atomically(const std::string &path, const std::function<void(const std::string &)> &write)
 {

@@ -1,4 +1,5 @@
 #include <base/input_error.h>
+#include <base/mpi_session.h>
 #include <base/solver_error.h>
 #include <fem/body_model.h>
 #include <io/reduced_body_cache.h>
@@ -13,11 +14,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <deal.II/base/mpi.h>
+
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <cerrno>
 #include <memory>
+#include <optional>
 
 namespace flextrack::io
 {
@@ -132,15 +136,26 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
   // Supports change the physics and default to free: the log says what each arm has.
   for (std::size_t a = 0; a < scene.body.arms.size(); ++a)
     log << "  arm " << scene.body.arm_names[a] << " supports: " << scene.body.arms[a].supports_text() << "\n";
-  CacheLock lock(file, log);
+  // Under MPI (a distributed reduction, reduction/component_modes.cc) the first process looks
+  // the body up, locks and writes it; all take part in reducing it.
+  const MPI_Comm communicator = base::fe_communicator();
+  const bool first = base::fe_rank() == 0;
+  const bool several = base::fe_processes() > 1;
+  std::optional<CacheLock> lock;
+  if (first) lock.emplace(file, log);
   {
     TimerOutput::Scope t(timer, "load cached reduced body");
-    result.from_cache = load_if_up_to_date(file, scene.input_hash, result.body, log);
+    result.from_cache = first && load_if_up_to_date(file, scene.input_hash, result.body, log);
+    if (several)
+      {
+        result.from_cache = dealii::Utilities::MPI::broadcast(communicator, result.from_cache, 0);
+        if (result.from_cache && !first) result.body = read_reduced_body(file);
+      }
   }
   if (result.from_cache)
     {
       log << "  reduced body is up to date: loaded " << file << " (same input hash), nothing recomputed\n";
-      lock.obtained();
+      if (lock) lock->obtained();
       return result;
     }
   if (before_reduction) before_reduction();
@@ -154,6 +169,10 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
       log << "  body: " << model->n_full_dofs() << " dofs, " << model->n_dofs() << " after ties and supports ("
           << (model->is_supported() ? "supported" : "free") << ")\n";
       const auto basis = reduction::reduce(*model, scene.reduction, &timer);
+      if (basis.factor_bytes > 0)
+        log << "  factorisation: about " << std::setprecision(3) << basis.factor_bytes / 1073741824.0
+            << " GiB per process (estimated before it was made" << (several ? ", on the process that holds most" : "")
+            << ")\n";
       {
         TimerOutput::Scope t(timer, "invariants, mode fields, drawing");
         result.body = reduction::make_reduced_body(*model, basis, scene.reduction.method_name());
@@ -183,11 +202,12 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
       throw SolverError(scene.file + ": the reduction gave a physically implausible body: " + e.what() +
                         "; nothing written (please report this scene)");
     }
+  if (!first) return result;
   TimerOutput::Scope t(timer, "write reduced body");
   if (const auto folder = std::filesystem::path(file).parent_path(); !folder.empty())
     OutputFolder(folder.string()).create();
   write_reduced_body(result.body, file);
-  lock.obtained();
+  lock->obtained();
   return result;
 }
 } // namespace flextrack::io

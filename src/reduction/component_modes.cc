@@ -1,9 +1,11 @@
+#include <base/mpi_session.h>
 #include <base/text.h>
 #include <base/input_error.h>
 #include <reduction/component_modes.h>
 #include <reduction/sparse_factorization.h>
 #include <fem/csr_matrix.h>
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 
@@ -102,20 +104,23 @@ std::vector<double> ReducedBasis::frequencies_hz() const
 
 namespace
 {
-/// K and M restricted to the dofs with keep[i] >= 0 (renumbered keep[i]).
+/// The rows first_row ... first_row + n_rows - 1 of K and M restricted to the dofs with
+/// keep[i] >= 0 (renumbered keep[i]), as rows of matrices of @p n_kept rows distributed over
+/// @p communicator (all of them on one process).
 void restrict_matrices(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
-                       const std::vector<int> &keep, const unsigned int n_kept, TrilinosWrappers::SparseMatrix &K_kept,
+                       const std::vector<int> &keep, const unsigned int n_kept, const unsigned int first_row,
+                       const unsigned int n_rows, const MPI_Comm communicator, TrilinosWrappers::SparseMatrix &K_kept,
                        TrilinosWrappers::SparseMatrix &M_kept)
 {
   for (int which = 0; which < 2; ++which)
     {
       const Epetra_CrsMatrix &a = (which == 0 ? K : M).trilinos_matrix();
-      // Visit the kept entries: first to collect the pattern, then to add the values.
+      // Visit the kept entries of the wanted rows: first to collect the pattern, then to add the values.
       auto visit = [&](auto &&use) {
         for (int r = 0; r < a.NumMyRows(); ++r)
           {
-            const int row = keep[a.RowMap().GID(r)];
-            if (row < 0) continue;
+            const int row = keep[a.RowMap().GID(r)] - static_cast<int>(first_row);
+            if (row < 0 || row >= static_cast<int>(n_rows)) continue;
             int n, *idx;
             double *v;
             a.ExtractMyRowView(r, n, v, idx);
@@ -123,21 +128,28 @@ void restrict_matrices(const TrilinosWrappers::SparseMatrix &K, const TrilinosWr
               if (const int c = keep[a.ColMap().GID(idx[e])]; c >= 0) use(row, c, v[e]);
           }
       };
-      std::vector<std::vector<int>> rows(n_kept);
+      std::vector<std::vector<int>> rows(n_rows);
       visit([&](int row, int c, double) { rows[row].push_back(c); });
       fem::CsrMatrix b(std::move(rows));
       visit([&](int row, int c, double v) { b.add(row, c, v); });
-      b.to_trilinos(which == 0 ? K_kept : M_kept);
+      b.to_trilinos(which == 0 ? K_kept : M_kept, first_row, n_kept, communicator);
     }
 }
 
 /// The body's matrices with some dofs clamped: restricted matrices, their factorisation, and
 /// the maps between the two numberings.
+///
+/// Under MPI (more than one process in base::fe_communicator()) every process holds the whole
+/// body model, and the restricted matrices are distributed: each process owns a contiguous
+/// block of their rows, MUMPS factorises them in parallel (its factor, the memory that limits
+/// the size of a body, spread over the processes), the eigen solve runs on PARPACK, and the
+/// solutions are gathered so that every process continues with the same whole vectors.
 class ClampedBody
 {
 public:
   ClampedBody(const fem::BodyModel &body, const std::vector<unsigned int> &clamped)
-    : keep(body.n_dofs(), 0), K_ptr(&body.stiffness_matrix()), M_ptr(&body.mass_matrix())
+    : keep(body.n_dofs(), 0), communicator(base::fe_communicator()), K_ptr(&body.stiffness_matrix()),
+      M_ptr(&body.mass_matrix())
   {
     for (const auto i : clamped) keep[i] = -1;
     for (unsigned int i = 0; i < keep.size(); ++i)
@@ -146,34 +158,51 @@ public:
           keep[i] = kept.size();
           kept.push_back(i);
         }
-    if (!clamped.empty())
+    const unsigned int n = kept.size();
+    const unsigned int n_processes = base::fe_processes(), rank = base::fe_rank();
+    first_row = static_cast<unsigned int>(static_cast<std::uint64_t>(n) * rank / n_processes);
+    n_rows = static_cast<unsigned int>(static_cast<std::uint64_t>(n) * (rank + 1) / n_processes) - first_row;
+    if (n_processes > 1 || !clamped.empty())
       {
-        restrict_matrices(body.stiffness_matrix(), body.mass_matrix(), keep, kept.size(), K_kept, M_kept);
+        restrict_matrices(body.stiffness_matrix(), body.mass_matrix(), keep, n, first_row, n_rows,
+                          n_processes > 1 ? communicator : MPI_COMM_SELF, K_kept, M_kept);
         K_ptr = &K_kept;
         M_ptr = &M_kept;
       }
   }
-  /// The matrices of the kept dofs (the body's own if nothing is clamped).
+  /// The matrices of the kept dofs (the body's own if nothing is clamped and there is one process).
   const TrilinosWrappers::SparseMatrix &K() const { return *K_ptr; }
   const TrilinosWrappers::SparseMatrix &M() const { return *M_ptr; }
   unsigned int size() const { return kept.size(); }
-  /// Cholesky factor of K (of the kept dofs), made on first use.
+  bool distributed() const { return n_rows < kept.size(); }
+  /// The factor's estimated size on the process that holds most of it [bytes]; 0 if not made.
+  double factor_bytes() const
+  {
+    const double here = factor ? factor->memory_estimate_bytes() : 0.0;
+    return distributed() ? Utilities::MPI::max(here, communicator) : here;
+  }
+  /// The factor of K (of the kept dofs), made on first use: Cholesky on one process, MUMPS's
+  /// LDL^T on several.
   const SparseFactorization &factorization()
   {
-    if (!factor) factor = std::make_unique<SparseFactorization>(K(), M(), 0.0, "cholmod");
+    if (!factor) factor = std::make_unique<SparseFactorization>(K(), M(), 0.0, distributed() ? "mumps" : "cholmod");
     return *factor;
   }
   /// x_c = K_c^{-1} b_c for body-dof loads b_c (zero on the clamped dofs), all in one solve.
   std::vector<Vector<double>> solve_many(const std::vector<Vector<double>> &loads)
   {
-    const std::size_t m = kept.size(), k = loads.size();
+    const std::size_t m = n_rows, k = loads.size();
     std::vector<double> B(m * k), X(m * k);
     for (std::size_t c = 0; c < k; ++c)
-      for (std::size_t j = 0; j < m; ++j) B[c * m + j] = loads[c][kept[j]];
+      for (std::size_t j = 0; j < m; ++j) B[c * m + j] = loads[c][kept[first_row + j]];
     if (k > 0) factorization().solve_many(B.data(), X.data(), k);
     std::vector<Vector<double>> x(k, Vector<double>(keep.size()));
     for (std::size_t c = 0; c < k; ++c)
-      for (std::size_t j = 0; j < m; ++j) x[c][kept[j]] = X[c * m + j];
+      {
+        for (std::size_t j = 0; j < m; ++j) x[c][kept[first_row + j]] = X[c * m + j];
+        // Each process solved its rows; every one continues with the whole solution.
+        if (distributed()) Utilities::MPI::sum(x[c], communicator, x[c]);
+      }
     return x;
   }
   Vector<double> expand(const Vector<double> &xc) const
@@ -186,6 +215,8 @@ public:
   std::vector<unsigned int> kept;
 
 private:
+  MPI_Comm communicator;
+  unsigned int first_row = 0, n_rows = 0; ///< this process' block of the kept dofs
   TrilinosWrappers::SparseMatrix K_kept, M_kept;
   const TrilinosWrappers::SparseMatrix *K_ptr, *M_ptr;
   std::unique_ptr<SparseFactorization> factor;
@@ -372,8 +403,11 @@ void add_normal_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
   if (settings.n_normal_modes == 0) return;
   ModalSettings modal = settings.modal;
   modal.n_modes = settings.n_normal_modes + n_rigid;
-  const auto &K_eig = method.fixed_interface ? anchored.K() : body.stiffness_matrix();
-  const auto &M_eig = method.fixed_interface ? anchored.M() : body.mass_matrix();
+  // Free interfaces: the whole body (its own matrices on one process, distributed rows on several).
+  std::optional<ClampedBody> whole;
+  if (!method.fixed_interface) whole.emplace(body, std::vector<unsigned int>());
+  const auto &K_eig = method.fixed_interface ? anchored.K() : whole->K();
+  const auto &M_eig = method.fixed_interface ? anchored.M() : whole->M();
   // Fixed interfaces: K is positive definite, so shift 0 works and one Cholesky factor serves the
   // eigen solve and all static solves.
   const bool share = method.fixed_interface && std::isnan(modal.shift) &&
@@ -572,6 +606,7 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
     }
   stage.reset();
   add_damping(settings, r);
+  r.factor_bytes = anchored.factor_bytes();
   return r;
 }
 

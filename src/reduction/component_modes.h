@@ -64,6 +64,9 @@ struct ReducedBasis
   /// Per arm of the body: the stations where track loads were applied (0: not a track arm).
   std::vector<unsigned int> track_stations;
   unsigned int n_dropped = 0;   ///< static vectors dropped as dependent
+  /// The factor of the clamped body on the process that holds most of it, estimated before it
+  /// was made [bytes] (0 if none was made).
+  double factor_bytes = 0;
   std::vector<double> frequencies_hz() const; ///< of the reduced model, ascending
   /// Geometric stiffness of the 12 unit inertial load cases (empty unless asked for), each n x n:
   /// 0-5 centrifugal, W = omega omega^T = e_x e_x^T, e_y e_y^T, e_z e_z^T, e_x e_y^T + e_y e_x^T,

@@ -6,8 +6,10 @@
 
 #include <Amesos.h>
 #include <Amesos_BaseSolver.h>
+#include <Amesos_Mumps.h>
 #include <Epetra_CrsMatrix.h>
 #include <Epetra_LinearProblem.h>
+#include <Epetra_MpiComm.h>
 #include <Epetra_Vector.h>
 #include <Teuchos_ParameterList.hpp>
 #include <cholmod.h>
@@ -201,9 +203,23 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
   // Sorted columns: the orderings break ties by position, and should see A as before (Epetra's
   // local column order need not be the global one).
   cholmod_sort(pattern, &common);
+  const double entries_of_A = static_cast<double>(cholmod_nnz(pattern, &common));
   cholmod_factor *symbolic = cholmod_analyze(pattern, &common); // AMD or METIS, postordered
   cholmod_free_sparse(&pattern, &common);
   if (!symbolic) throw SolverError("CHOLMOD could not order the matrix (out of memory?)");
+  // The factor's numbers (8 bytes each) and A's entries (value and row index), known from the
+  // ordering: a factor that cannot fit is refused here, before the machine starts to swap.
+  estimated_bytes = 8.0 * (symbolic->is_super ? static_cast<double>(symbolic->xsize) : common.lnz) + 12.0 * entries_of_A;
+  try
+    {
+      base::check_memory_for("the Cholesky factorisation of the " + std::to_string(n) + "-dof matrix", estimated_bytes);
+    }
+  catch (...)
+    {
+      cholmod_free_factor(&symbolic, &common);
+      cholmod.reset();
+      throw;
+    }
   cholmod_sparse *A = nullptr;
   if (symbolic->is_super)
     {
@@ -277,7 +293,22 @@ void SparseFactorization::factorize_with_amesos(const std::string &method)
   // The matrices here are symmetric: MUMPS then uses LDL^T, half the work and memory of LU.
   parameters.set("MatrixProperty", std::string("symmetric"));
   solver->SetParameters(parameters);
-  if (solver->SymbolicFactorization() != 0 || solver->NumericFactorization() != 0)
+  const bool analysed = solver->SymbolicFactorization() == 0;
+  if (auto *mumps = dynamic_cast<Amesos_Mumps *>(solver.get()); analysed && mumps)
+    {
+      // MUMPS's estimates from its analysis, on this process: its whole in-core factorisation
+      // (INFO(15), in millions of bytes, rounded: 0 for a small matrix) and the factor's reals
+      // and integers (INFO(3), INFO(4); a negative value counts millions). Every process of the
+      // matrix checks its machine.
+      const int *info = mumps->GetINFO();
+      auto count = [](const int v) { return v < 0 ? -1e6 * v : static_cast<double>(v); };
+      estimated_bytes = std::max(1e6 * info[14], 8 * count(info[2]) + 4 * count(info[3]));
+      const MPI_Comm communicator = dynamic_cast<const Epetra_MpiComm &>(A.Comm()).Comm();
+      base::check_memory_for("the LDL^T factorisation (MUMPS) of the " + std::to_string(A.NumGlobalRows()) +
+                               "-dof matrix",
+                             estimated_bytes, &communicator);
+    }
+  if (!analysed || solver->NumericFactorization() != 0)
     throw SolverError("the matrix could not be factorised: it is singular (a shift equal to an eigenvalue, or a "
                       "structure with a mechanism); change 'Modal analysis/Shift' or the supports");
 }
