@@ -6,8 +6,9 @@
 //    Epetra's row-wise scratch and the workspace of a fill-reducing ordering are many small
 //    blocks; freed, glibc keeps them resident (it returns only the top of the heap by itself),
 //    and a factorisation that follows would add its factor on top of them.
-//  - check_memory_for: refuses, before it starts, a factorisation whose estimated size will not
-//    fit in the memory the machine has left, with a message that says what would fit.
+//  - check_memory_for: refuses, before it starts, a step (a factorisation, assembling a body)
+//    whose estimated size will not fit in the memory the machine has left, with a message that
+//    says what would fit.
 #pragma once
 
 #include <base/mpi_session.h>
@@ -90,17 +91,22 @@ inline double available_memory_bytes(const double used_here)
   return std::max(available, 0.0);
 }
 
+/// What a memory check is about: a factor the processes share (each holds its part, so more
+/// machines help), or data every process holds whole (only fewer processes per machine help).
+enum class MemoryUse { shared_factor, replicated };
+
 /// Refuses a step that needs about @p bytes more on this process: throws SolverError, with what
 /// would fit, when the processes of one machine together need more than it has available. With
 /// @p communicator (a collective step: every process of it calls this), the machines are the
 /// shared-memory groups of its processes and every process throws the same error; without it,
 /// this process alone is checked.
-inline void check_memory_for(const std::string &what, const double bytes, const MPI_Comm *communicator = nullptr)
+inline void check_memory_for(const std::string &what, const double bytes, const MPI_Comm *communicator = nullptr,
+                             const MemoryUse use = MemoryUse::shared_factor)
 {
   constexpr double GiB = 1073741824.0;
   int n_processes = 1;
-  double need_here = bytes, used_here = resident_bytes(), per_process = bytes;
-  double available = 0, total = bytes;
+  double need_here = bytes, used_here = resident_bytes(), per_process = bytes, total = bytes, available = 0;
+  double on_machine = 1; // processes on the machine that lacks most
   bool collective = communicator && fe_processes() > 1;
   if (collective) MPI_Comm_size(*communicator, &n_processes);
   collective = collective && n_processes > 1;
@@ -111,17 +117,23 @@ inline void check_memory_for(const std::string &what, const double bytes, const 
       MPI_Allreduce(&bytes, &need_here, 1, MPI_DOUBLE, MPI_SUM, machine);
       const double mine = resident_bytes();
       MPI_Allreduce(&mine, &used_here, 1, MPI_DOUBLE, MPI_SUM, machine);
+      int here = 1;
+      MPI_Comm_size(machine, &here);
       MPI_Comm_free(&machine);
       available = available_memory_bytes(used_here);
       // The machine that lacks most decides; every process reports its numbers.
       double shortfall = need_here - available, worst = 0;
       MPI_Allreduce(&shortfall, &worst, 1, MPI_DOUBLE, MPI_MAX, *communicator);
-      double values[3] = {shortfall == worst ? need_here : 0, shortfall == worst ? available : 0, bytes};
-      double global[3];
-      MPI_Allreduce(values, global, 3, MPI_DOUBLE, MPI_MAX, *communicator);
+      const bool mine_decides = shortfall == worst;
+      double values[5] = {mine_decides ? need_here : 0, mine_decides ? available : 0, bytes,
+                          mine_decides ? used_here : 0, mine_decides ? double(here) : 0};
+      double global[5];
+      MPI_Allreduce(values, global, 5, MPI_DOUBLE, MPI_MAX, *communicator);
       need_here = global[0];
       available = global[1];
       per_process = global[2];
+      used_here = global[3];
+      on_machine = global[4];
       MPI_Allreduce(&bytes, &total, 1, MPI_DOUBLE, MPI_SUM, *communicator);
     }
   else
@@ -130,16 +142,19 @@ inline void check_memory_for(const std::string &what, const double bytes, const 
   std::ostringstream m;
   m.precision(3);
   m << what << " needs about " << per_process / GiB << " GiB per process with " << n_processes << " process"
-    << (n_processes > 1 ? "es" : "") << " (" << need_here / GiB << " GiB on one machine), but only "
-    << available / GiB << " GiB are available there; nothing was factorised. ";
-  // The processes share the factor: machines like this one, one process on each, hold it when
-  // each has room for its part (the whole model is on every process, and resident here already).
-  if (available > 1e-3 * total)
+    << (n_processes > 1 ? "es" : "") << " (" << need_here / GiB << " GiB on one machine, where the processes hold "
+    << used_here / GiB << " GiB already), but only " << available / GiB << " GiB are available there; it was not started. ";
+  // A machine with one process has what this one has, plus what the others of it hold now.
+  const double room_for_one = available + used_here * (on_machine - 1) / on_machine;
+  if (use == MemoryUse::replicated)
+    m << "Every process holds all of it: run fewer processes on each machine, ";
+  else if (room_for_one > 1e-3 * total)
     m << "The factor is about " << total / GiB << " GiB in all, which the processes share: run on about "
-      << std::ceil(total / available) << " machines like this one, one process on each (mpirun), ";
+      << std::ceil(total / room_for_one) << " machines like this one, one process on each (mpirun), ";
   else
     m << "Free memory on this machine, run on machines with more memory (mpirun, one process on each), ";
-  m << "or use a coarser mesh (FLEXTRACK_MEMORY_LIMIT [GiB], if set, caps the memory assumed available)";
+  m << "on a machine with more memory, or with a coarser mesh (FLEXTRACK_MEMORY_LIMIT [GiB], if set, caps the "
+       "memory assumed available)";
   throw SolverError(m.str());
 }
 } // namespace flextrack::base

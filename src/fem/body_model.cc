@@ -2,6 +2,7 @@
 #include <geometry/rotation.h>
 #include <fem/csr_matrix.h>
 #include <base/input_error.h>
+#include <base/memory.h>
 #include <base/mpi_session.h>
 
 #include <deal.II/base/mpi.h>
@@ -53,6 +54,7 @@ BodyModel::BodyModel(const Body &body) : description(body)
   unsigned int offset = 0;
   if (body.solid)
     {
+      check_memory_for_solid(*body.solid);
       solid = std::make_unique<SolidModel>(*body.solid, 0, false, true, MPI_COMM_SELF);
       offset = solid->n_dofs();
     }
@@ -66,6 +68,25 @@ BodyModel::BodyModel(const Body &body) : description(body)
   collect_nodes();
   build_constraints();
   condense_matrices();
+}
+
+void BodyModel::check_memory_for_solid(const Solid &solid)
+{
+  // What the model of a solid holds until the factorisation, per solid dof (hex20 links of
+  // 8 x 8 x N cells, tests/bench/distributed_reduction.py): the solid's K and M, the condensed
+  // and the clamped copies, nodes and constraints. Measured 2026-12-02 as the resident memory when
+  // the factorisation starts (the log's "held then"): BYTES_PER_DOF below is the largest of the
+  // 2.4e5- and 1e6-dof bodies, rounded up. Every process of a distributed reduction holds it.
+  constexpr double bytes_per_dof = 12500;
+  const auto &tria = solid.mesh->triangulation;
+  double nodes = tria.n_vertices();
+  if (solid.element != SolidElement::hex8) nodes += tria.n_lines();
+  if (solid.element == SolidElement::hex27) nodes += tria.n_quads() + tria.n_hexs();
+  const double dofs = 3 * nodes;
+  const MPI_Comm communicator = base::fe_communicator();
+  std::ostringstream what;
+  what << "assembling the body model (" << dofs << " solid dofs; every process holds all of it)";
+  base::check_memory_for(what.str(), bytes_per_dof * dofs, &communicator, base::MemoryUse::replicated);
 }
 
 void BodyModel::collect_nodes()

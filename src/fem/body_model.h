@@ -106,6 +106,8 @@ private:
     unsigned int column;
     double value;
   };
+  /// Refuses (SolverError) a solid whose model will not fit in the memory left (base/memory.h).
+  static void check_memory_for_solid(const Solid &solid);
   void collect_nodes();
   // The constraints x = T y of supports, ties, interfaces and output points, in these steps:
   void build_constraints();

@@ -172,7 +172,8 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
       if (basis.factor_bytes > 0)
         log << "  factorisation: about " << std::setprecision(3) << basis.factor_bytes / 1073741824.0
             << " GiB per process (estimated before it was made" << (several ? ", on the process that holds most" : "")
-            << ")\n";
+            << "), on top of " << basis.held_before_factor_bytes / 1073741824.0
+            << " GiB held then (the body model and its matrices)\n";
       {
         TimerOutput::Scope t(timer, "invariants, mode fields, drawing");
         result.body = reduction::make_reduced_body(*model, basis, scene.reduction.method_name());

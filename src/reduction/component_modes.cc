@@ -176,11 +176,9 @@ public:
   unsigned int size() const { return kept.size(); }
   bool distributed() const { return n_rows < kept.size(); }
   /// The factor's estimated size on the process that holds most of it [bytes]; 0 if not made.
-  double factor_bytes() const
-  {
-    const double here = factor ? factor->memory_estimate_bytes() : 0.0;
-    return distributed() ? Utilities::MPI::max(here, communicator) : here;
-  }
+  double factor_bytes() const { return largest(factor ? factor->memory_estimate_bytes() : 0.0); }
+  /// The most any process held when the factorisation started (the body model) [bytes].
+  double held_before_factor_bytes() const { return largest(factor ? factor->resident_bytes_before() : 0.0); }
   /// The factor of K (of the kept dofs), made on first use: Cholesky on one process, MUMPS's
   /// LDL^T on several.
   const SparseFactorization &factorization()
@@ -215,6 +213,7 @@ public:
   std::vector<unsigned int> kept;
 
 private:
+  double largest(const double here) const { return distributed() ? Utilities::MPI::max(here, communicator) : here; }
   MPI_Comm communicator;
   unsigned int first_row = 0, n_rows = 0; ///< this process' block of the kept dofs
   TrilinosWrappers::SparseMatrix K_kept, M_kept;
@@ -607,6 +606,7 @@ ReducedBasis reduce(const fem::BodyModel &body, const ReductionSettings &setting
   stage.reset();
   add_damping(settings, r);
   r.factor_bytes = anchored.factor_bytes();
+  r.held_before_factor_bytes = anchored.held_before_factor_bytes();
   return r;
 }
 

@@ -67,6 +67,8 @@ struct ReducedBasis
   /// The factor of the clamped body on the process that holds most of it, estimated before it
   /// was made [bytes] (0 if none was made).
   double factor_bytes = 0;
+  /// What the process that held most held when the factorisation started [bytes].
+  double held_before_factor_bytes = 0;
   std::vector<double> frequencies_hz() const; ///< of the reduced model, ascending
   /// Geometric stiffness of the 12 unit inertial load cases (empty unless asked for), each n x n:
   /// 0-5 centrifugal, W = omega omega^T = e_x e_x^T, e_y e_y^T, e_z e_z^T, e_x e_y^T + e_y e_x^T,

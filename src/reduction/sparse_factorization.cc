@@ -210,6 +210,7 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
   // The factor's numbers (8 bytes each) and A's entries (value and row index), known from the
   // ordering: a factor that cannot fit is refused here, before the machine starts to swap.
   estimated_bytes = 8.0 * (symbolic->is_super ? static_cast<double>(symbolic->xsize) : common.lnz) + 12.0 * entries_of_A;
+  resident_before = base::resident_bytes();
   try
     {
       base::check_memory_for("the Cholesky factorisation of the " + std::to_string(n) + "-dof matrix", estimated_bytes);
@@ -303,6 +304,7 @@ void SparseFactorization::factorize_with_amesos(const std::string &method)
       const int *info = mumps->GetINFO();
       auto count = [](const int v) { return v < 0 ? -1e6 * v : static_cast<double>(v); };
       estimated_bytes = std::max(1e6 * info[14], 8 * count(info[2]) + 4 * count(info[3]));
+      resident_before = base::resident_bytes();
       const MPI_Comm communicator = dynamic_cast<const Epetra_MpiComm &>(A.Comm()).Comm();
       base::check_memory_for("the LDL^T factorisation (MUMPS) of the " + std::to_string(A.NumGlobalRows()) +
                                "-dof matrix",

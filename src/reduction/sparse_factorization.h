@@ -53,6 +53,8 @@ public:
   /// The size of the factor (and, for Cholesky, its input) on this process, estimated from the
   /// analysis before the factorisation [bytes]; 0 for KLU, which does not say.
   double memory_estimate_bytes() const { return estimated_bytes; }
+  /// This process' resident memory when the factorisation started [bytes]: what it held besides.
+  double resident_bytes_before() const { return resident_before; }
   /// y = L^{-1} P b (has_halves() only).
   void solve_lower(const double *b, double *y) const;
   /// x = P^T L^{-T} y (has_halves() only).
@@ -68,7 +70,7 @@ private:
   struct Cholmod;
   std::unique_ptr<Cholmod> cholmod;
   bool out_of_memory = false; ///< why the last Cholesky factorisation failed, if it did
-  double estimated_bytes = 0;
+  double estimated_bytes = 0, resident_before = 0;
   /// Cholesky of A; false if A is not positive definite.
   bool factorize_with_cholmod(const dealii::TrilinosWrappers::SparseMatrix &K,
                               const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,

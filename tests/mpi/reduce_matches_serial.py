@@ -13,9 +13,10 @@ the same finite element model, so the reference of the distributed file is the s
   (K_2 = T^T K_1 T, I3_2 = I3_1 T, P_2,k = sum_j T_jk P_1,j, Q_2,kl = sum T_jk T_ml Q_1,jm) to
   1e-8 of the largest entry of each;
 - a 'run' of a scene with either file gives the same probes to 1e-9 m;
-- a factorisation that will not fit (FLEXTRACK_MEMORY_LIMIT set to 0.01 GiB, below what the
-  process holds already) is refused before it starts, serially and on 2 processes: exit status 3
-  (a solver failure), a message with the estimate and what to do, and no reduced body written.
+- a body that will not fit (FLEXTRACK_MEMORY_LIMIT set to 0.01 GiB, below what the process
+  holds already) is refused before it starts (its assembly if it has a solid, else its
+  factorisation), serially and on 2 processes: exit status 3 (a solver failure), a message with
+  the estimate and what to do, and no reduced body written.
 
 Usage: reduce_matches_serial.py EXE MPIRUN BODY_PRM SCENE_PRM OUT
 """
@@ -153,7 +154,9 @@ def main():
 
     compare_runs(exe, scene_prm, folders, env)
 
-    # A body that does not fit is refused before the factorisation, on one and on two processes.
+    # A body that does not fit is refused before it is assembled, on one and on two processes
+    # (the factorisation's own check, which comes later, is tested in
+    # SparseFactorization.refuses_a_factor_that_does_not_fit).
     limited = dict(env, FLEXTRACK_MEMORY_LIMIT="0.01")
     for name, launcher in [("serial", []), ("mpi", [mpirun, "-np", "2", "--oversubscribe"])]:
         folder = os.path.join(out, "refused_" + name)
@@ -161,14 +164,16 @@ def main():
         p = subprocess.run(launcher + [exe, "reduce", body_prm], cwd=folder, env=limited, capture_output=True,
                            text=True)
         print(p.stdout, p.stderr)
-        check(p.returncode == 3, f"{name}: exit status 3 when the factor does not fit (got {p.returncode})")
+        check(p.returncode == 3, f"{name}: exit status 3 when the body does not fit (got {p.returncode})")
         processes = "2 processes" if name == "mpi" else "1 process"
-        check(re.search(r"factorisation.* of the \d+-dof matrix needs about [0-9.e-]+ GiB per process with " +
-                        processes + r".*only 0 GiB are available there; nothing was factorised.*coarser mesh", p.stderr) is not None,
+        text = open(body_prm).read()
+        solid = "subsection Solid" in text and not re.search(r"set Solid *= *false", text)
+        step = r"assembling the body model \(\d+ solid dofs" if solid else r"factorisation.* of the \d+-dof matrix"
+        check(re.search(step + r".* needs about [0-9.e-]+ GiB per process with " + processes +
+                        r".*only 0 GiB are available there; it was not started.*coarser mesh", p.stderr) is not None,
               f"{name}: the message gives the estimate and what to do")
         check(not os.path.exists(os.path.join(folder, "output", stem, "reduced_body.h5")),
               f"{name}: no reduced body written")
-
 
 if __name__ == "__main__":
     main()

@@ -7,10 +7,13 @@
 #include <fem/solid_model.h>
 #include <reduction/modal_solver.h>
 #include <reduction/sparse_factorization.h>
+#include <base/solver_error.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <iostream>
 #include <vector>
 
@@ -95,4 +98,42 @@ TEST(StandardFormModes, halves_of_the_factor_and_the_modes_agree_with_the_genera
   free_body.supports.clear();
   const fem::SolidModel free_model(free_body);
   EXPECT_GE(compare_forms(free_model, 12), 2u);
+}
+
+TEST(SparseFactorization, refuses_a_factor_that_does_not_fit)
+{
+  // The clamped block above. The estimate made before factorising lies between what any
+  // Cholesky or LDL^T factor holds at least (the entries of A's lower triangle, 8 bytes each;
+  // fill-in only adds) and the dense triangle (n (n + 1) / 2 entries): bounds of the method, not
+  // of this code. With FLEXTRACK_MEMORY_LIMIT below what the process holds already, both
+  // methods refuse before they factorise, with a SolverError that says so.
+  fem::Solid body = test_support::steel_solid(fem::generate_box(dealii::Point<3>(0.1, 0.1, 0.3), {{4, 4, 12}}), "ZMIN");
+  const fem::SolidModel model(body);
+  const auto &K = model.stiffness_matrix();
+  const auto &M = model.mass_matrix();
+  const double n = K.m();
+  const double lower_triangle = (static_cast<double>(K.n_nonzero_elements()) + n) / 2;
+  for (const std::string method : {"cholmod", "mumps"})
+    {
+      const reduction::SparseFactorization factor(K, M, -1.0, method);
+      const double bytes = factor.memory_estimate_bytes();
+      std::cout << "  " << method << ": estimate " << bytes / 1048576 << " MiB for " << n << " dofs\n";
+      EXPECT_GE(bytes, 8 * lower_triangle) << method;
+      EXPECT_LE(bytes, 8 * n * (n + 1) / 2 + 16 * K.n_nonzero_elements()) << method;
+    }
+  setenv("FLEXTRACK_MEMORY_LIMIT", "1e-6", 1);
+  for (const std::string method : {"cholmod", "mumps"})
+    try
+      {
+        const reduction::SparseFactorization factor(K, M, -1.0, method);
+        ADD_FAILURE() << method << ": factorised beyond the memory limit";
+      }
+    catch (const SolverError &e)
+      {
+        const std::string text = e.what();
+        EXPECT_NE(text.find("factorisation"), std::string::npos) << text;
+        EXPECT_NE(text.find("of the " + std::to_string(K.m()) + "-dof matrix needs about"), std::string::npos) << text;
+        EXPECT_NE(text.find("it was not started"), std::string::npos) << text;
+      }
+  unsetenv("FLEXTRACK_MEMORY_LIMIT");
 }
