@@ -208,25 +208,20 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
   cholmod_free_sparse(&pattern, &common);
   if (!symbolic) throw SolverError("CHOLMOD could not order the matrix (out of memory?)");
   // The factor's numbers (8 bytes each) and A's entries (value and row index), known from the
-  // ordering: a factor that cannot fit is refused here, before the machine starts to swap.
+  // ordering: a factor that cannot fit is refused before A is built, once the ordering's
+  // workspace is given back, before the machine starts to swap.
   estimated_bytes = 8.0 * (symbolic->is_super ? static_cast<double>(symbolic->xsize) : common.lnz) + 12.0 * entries_of_A;
-  resident_before = base::resident_bytes();
-  try
-    {
-      base::check_memory_for("the Cholesky factorisation of the " + std::to_string(n) + "-dof matrix", estimated_bytes);
-    }
-  catch (...)
-    {
-      cholmod_free_factor(&symbolic, &common);
-      cholmod.reset();
-      throw;
-    }
+  auto check_memory = [&]() {
+    resident_before = base::resident_bytes();
+    base::check_memory_for("the Cholesky factorisation of the " + std::to_string(n) + "-dof matrix", estimated_bytes);
+  };
   cholmod_sparse *A = nullptr;
   if (symbolic->is_super)
     {
       cholmod->order.assign(static_cast<int *>(symbolic->Perm), static_cast<int *>(symbolic->Perm) + n);
       cholmod_free_factor(&symbolic, &common);
       base::release_free_heap(); // the ordering's workspace, before A and the factor
+      check_memory();
       std::vector<int> new_index(n);
       for (int p = 0; p < n; ++p) new_index[cholmod->order[p]] = p;
       A = compressed_columns(new_index, CHOLMOD_REAL);
@@ -253,9 +248,10 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
       // A small factor (simplicial LDL^T): memory does not matter, and CHOLMOD permutes A
       // itself, as it always has here, which keeps these results as they were to the last bit
       // (the row-by-row factorisation sums in another order on a pre-permuted matrix).
+      cholmod->factor = symbolic; // freed with cholmod if the check below throws
+      check_memory();
       A = compressed_columns(identity, CHOLMOD_REAL);
       sort_columns(A);
-      cholmod->factor = symbolic;
     }
   if (release)
     {
