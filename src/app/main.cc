@@ -165,6 +165,15 @@ const std::vector<Command> &commands()
   return table;
 }
 
+/// Whether @p command works on distributed matrices under mpirun: all its processes take part in
+/// every step, so a failure of one leaves the others waiting.
+bool is_collective_command(const std::string &command)
+{
+  for (const auto &c : commands())
+    if (command == c.name) return c.needs_mpi;
+  return false;
+}
+
 /// True, with @p value set, if @p text is a whole integer from @p lowest to @p highest.
 bool integer_in(const std::string &text, const int lowest, const int highest, unsigned int &value)
 {
@@ -301,6 +310,15 @@ int main(int argc, char **argv)
   int started = 0, finished = 0;
   MPI_Initialized(&started);
   MPI_Finalized(&finished);
+  if (started && !finished && status != 0 && argc > 1 && is_collective_command(argv[1]))
+    {
+      // A failure on some processes of a collective command (a distributed reduction whose
+      // first process cannot write its file) would leave the others waiting in a collective
+      // step, and MPI_Finalize waits for them: end every process with this status instead.
+      int size = 1;
+      MPI_Comm_size(MPI_COMM_WORLD, &size);
+      if (size > 1) MPI_Abort(MPI_COMM_WORLD, status);
+    }
   if (started && !finished) MPI_Finalize();
   flextrack::base::remove_mpi_session_folder(private_mpi_folder);
   return status;

@@ -162,10 +162,11 @@ public:
     const unsigned int n_processes = base::fe_processes(), rank = base::fe_rank();
     first_row = static_cast<unsigned int>(static_cast<std::uint64_t>(n) * rank / n_processes);
     n_rows = static_cast<unsigned int>(static_cast<std::uint64_t>(n) * (rank + 1) / n_processes) - first_row;
-    if (n_processes > 1 || !clamped.empty())
+    several = n_processes > 1;
+    if (several || !clamped.empty())
       {
         restrict_matrices(body.stiffness_matrix(), body.mass_matrix(), keep, n, first_row, n_rows,
-                          n_processes > 1 ? communicator : MPI_COMM_SELF, K_kept, M_kept);
+                          several ? communicator : MPI_COMM_SELF, K_kept, M_kept);
         K_ptr = &K_kept;
         M_ptr = &M_kept;
       }
@@ -174,7 +175,8 @@ public:
   const TrilinosWrappers::SparseMatrix &K() const { return *K_ptr; }
   const TrilinosWrappers::SparseMatrix &M() const { return *M_ptr; }
   unsigned int size() const { return kept.size(); }
-  bool distributed() const { return n_rows < kept.size(); }
+  /// True on every process of a distributed reduction (some may own no row of a tiny body).
+  bool distributed() const { return several; }
   /// The factor's estimated size on the process that holds most of it [bytes]; 0 if not made.
   double factor_bytes() const { return largest(factor ? factor->memory_estimate_bytes() : 0.0); }
   /// The most any process held when the factorisation started (the body model) [bytes].
@@ -216,6 +218,7 @@ private:
   double largest(const double here) const { return distributed() ? Utilities::MPI::max(here, communicator) : here; }
   MPI_Comm communicator;
   unsigned int first_row = 0, n_rows = 0; ///< this process' block of the kept dofs
+  bool several = false;
   TrilinosWrappers::SparseMatrix K_kept, M_kept;
   const TrilinosWrappers::SparseMatrix *K_ptr, *M_ptr;
   std::unique_ptr<SparseFactorization> factor;

@@ -276,6 +276,12 @@ CASES = {
     # 2026-11 on; distributed since issue 27: the first process writes one complete file).
     "mpirun_reduce": dict(files={"s.prm": "<small body>"}, args=["reduce", "s.prm", "-o", "out"], mpi=2,
                           status=0, outputs=["reduced_body.h5", "summary.json"]),
+    # A distributed reduction whose first process cannot write: every process ends (MPI_Abort),
+    # none waits for ever in a collective step.
+    "mpirun_reduce_unwritable_output": dict(files={"s.prm": "<small body>"},
+                                            args=["reduce", "s.prm", "-o", "/proc/flextrack_reduce"], mpi=2,
+                                            status=2, regex=r"cannot create the output folder '/proc/flextrack_reduce",
+                                            entry="", names_file=False),
 }
 
 
