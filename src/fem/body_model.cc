@@ -73,14 +73,14 @@ BodyModel::BodyModel(const Body &body) : description(body)
 void BodyModel::check_memory_for_solid(const Solid &solid)
 {
   // What the model of a solid holds until the factorisation, per solid dof (hex20 links of
-  // 8 x 8 x N cells, tests/bench/distributed_reduction.py): the solid's K and M, the condensed
-  // and the clamped copies, nodes and constraints, and the workspace of the factor's fill-reducing
-  // ordering, which comes first. Measured 2026-12-02 as the resident memory at the end of that
-  // ordering, less the program's 0.18 GiB: 14.7 kB per dof for the 2.4e5- and the 1e6-dof body
-  // serially, 12.7 kB on each of 2 processes (the clamped copy is shared out); 10.0 kB once the
-  // ordering's workspace is given back (the log's "held then"). Rounded up. Every process of a
-  // distributed reduction holds it.
-  constexpr double bytes_per_dof = 15000;
+  // 8 x 8 x N cells, tests/bench/distributed_reduction.py): the solid's M, the condensed K and
+  // M and their clamped copies (each pair on one graph), nodes and constraints, and the
+  // workspace of the factor's fill-reducing ordering, which comes first and is the peak.
+  // Measured 2026-12-02 (FLEXTRACK_MEMORY_PROBE, "fill-reducing ordering done", less the
+  // program's 0.18 GB): 10.25 kB per dof for the 2.4e5-dof body; 7.7 kB once the ordering's
+  // workspace is given back (the log's "held then"). Rounded up. Every process of a distributed
+  // reduction holds all of it.
+  constexpr double bytes_per_dof = 11000;
   const auto &tria = solid.mesh->triangulation;
   double nodes = tria.n_vertices();
   if (solid.element != SolidElement::hex8) nodes += tria.n_lines();
@@ -537,8 +537,12 @@ void BodyModel::condense_matrices()
           values_pass = true;
         }
     }
+  // The solid's K is not needed any more (its M is: full_mass_multiply); M keeps the graph they
+  // share. One copy at a time: a large body's matrices are most of its memory.
+  if (solid) solid->release_stiffness();
   K.to_trilinos(stiffness);
-  M.to_trilinos(mass);
+  K = CsrMatrix();
+  M.to_trilinos_on_graph_of(stiffness, mass);
 }
 
 Vector<double> BodyModel::expand(const Vector<double> &y) const

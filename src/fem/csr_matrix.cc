@@ -57,4 +57,16 @@ void CsrMatrix::to_trilinos(dealii::TrilinosWrappers::SparseMatrix &result, cons
   A.FillComplete();
   result.reinit(A);
 }
+
+void CsrMatrix::to_trilinos_on_graph_of(const dealii::TrilinosWrappers::SparseMatrix &pattern,
+                                        dealii::TrilinosWrappers::SparseMatrix &result, const unsigned int first_row) const
+{
+  result.reinit(pattern.trilinos_matrix(), false); // the graph shared (Epetra counts references), values zero
+  auto &A = const_cast<Epetra_CrsMatrix &>(result.trilinos_matrix());
+  for (unsigned int r = 0; r < n_rows; ++r)
+    if (const int n = row_start[r + 1] - row_start[r]; n > 0)
+      AssertThrow(A.ReplaceGlobalValues(static_cast<int>(first_row + r), n, values.data() + row_start[r],
+                                        columns.data() + row_start[r]) == 0,
+                  dealii::ExcMessage("an entry lies outside the shared pattern"));
+}
 } // namespace flextrack::fem

@@ -28,5 +28,10 @@ struct CsrMatrix
   /// blocks follow each other in the order of the ranks).
   void to_trilinos(dealii::TrilinosWrappers::SparseMatrix &result, unsigned int first_row, unsigned int n_global,
                    MPI_Comm communicator) const;
+  /// A matrix of this pattern and these values that shares the graph (column indices) of
+  /// @p pattern, whose pattern holds this one's (rows first_row ... of it): the second of two
+  /// matrices of one pattern (K and M) costs its values only.
+  void to_trilinos_on_graph_of(const dealii::TrilinosWrappers::SparseMatrix &pattern,
+                               dealii::TrilinosWrappers::SparseMatrix &result, unsigned int first_row = 0) const;
 };
 } // namespace flextrack::fem

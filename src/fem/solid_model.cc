@@ -388,6 +388,12 @@ const SolidMassOperator &SolidModel::mass_operator() const
   return *cell_mass;
 }
 
+void SolidModel::release_stiffness()
+{
+  stiffness.clear();
+  base::release_free_heap();
+}
+
 void SolidModel::release_matrices()
 {
   stiffness.clear();

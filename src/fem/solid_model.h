@@ -57,6 +57,8 @@ public:
   /// Frees K and M: stiffness_matrix() and mass_matrix() are empty afterwards. The eigen solve
   /// of a large solid calls it once the factorisation has its own copy of K - sigma M.
   void release_matrices();
+  /// Frees K only (stiffness_matrix() is empty afterwards); M keeps the graph they share.
+  void release_stiffness();
   const dealii::AffineConstraints<double> &constraints() const { return supports; }
   unsigned int n_dofs() const { return dofs.n_dofs(); }
   unsigned int n_free_dofs() const { return dofs.n_dofs() - supports.n_constraints(); }

@@ -112,6 +112,7 @@ void restrict_matrices(const TrilinosWrappers::SparseMatrix &K, const TrilinosWr
                        const unsigned int n_rows, const MPI_Comm communicator, TrilinosWrappers::SparseMatrix &K_kept,
                        TrilinosWrappers::SparseMatrix &M_kept)
 {
+  // K first; M has K's pattern and gets K_kept's graph (only its values are new).
   for (int which = 0; which < 2; ++which)
     {
       const Epetra_CrsMatrix &a = (which == 0 ? K : M).trilinos_matrix();
@@ -132,7 +133,10 @@ void restrict_matrices(const TrilinosWrappers::SparseMatrix &K, const TrilinosWr
       visit([&](int row, int c, double) { rows[row].push_back(c); });
       fem::CsrMatrix b(std::move(rows));
       visit([&](int row, int c, double v) { b.add(row, c, v); });
-      b.to_trilinos(which == 0 ? K_kept : M_kept, first_row, n_kept, communicator);
+      if (which == 0)
+        b.to_trilinos(K_kept, first_row, n_kept, communicator);
+      else
+        b.to_trilinos_on_graph_of(K_kept, M_kept, first_row);
     }
 }
 

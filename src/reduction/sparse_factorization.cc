@@ -205,6 +205,7 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
   cholmod_sort(pattern, &common);
   const double entries_of_A = static_cast<double>(cholmod_nnz(pattern, &common));
   cholmod_factor *symbolic = cholmod_analyze(pattern, &common); // AMD or METIS, postordered
+  base::probe_memory("fill-reducing ordering done");
   cholmod_free_sparse(&pattern, &common);
   if (!symbolic) throw SolverError("CHOLMOD could not order the matrix (out of memory?)");
   // The factor's numbers (8 bytes each) and A's entries (value and row index), known from the
