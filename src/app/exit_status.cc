@@ -38,4 +38,11 @@ CommandOutcome run_guarded(const std::function<int()> &command)
       return {4, std::string("internal error: ") + e.what()};
     }
 }
+namespace
+{
+bool collective = false;
+} // namespace
+
+void start_collective_work() { collective = true; }
+bool collective_work_started() { return collective; }
 } // namespace flextrack::app

@@ -16,4 +16,10 @@ struct CommandOutcome
 
 /// Runs @p command and turns every error it throws into its exit status and line.
 CommandOutcome run_guarded(const std::function<int()> &command);
+
+/// Marks that the processes of the FE communicator work together from here on (a distributed
+/// reduction): a failure on one of them must end all (main calls MPI_Abort), since the others
+/// would wait for it in a collective step.
+void start_collective_work();
+bool collective_work_started();
 } // namespace flextrack::app

@@ -142,7 +142,21 @@ int scene_dispatch(const Options &options, const flextrack::io::SceneFile &file)
 /// 'run' simulates a multibody scene; other scenes keep their analysis ('modes' or 'reduce').
 int run_dispatch(const Options &options, const flextrack::io::SceneFile &file)
 {
-  if (file.model == "multibody") return run_command(options, file);
+  if (file.model == "multibody")
+    {
+      if (flextrack::base::started_by_mpirun())
+        {
+          // Said once, by the first process (MPI is not started here: the launcher's rank).
+          const char *rank = std::getenv("OMPI_COMM_WORLD_RANK");
+          if (!rank) rank = std::getenv("PMIX_RANK");
+          if (rank && std::atoi(rank) != 0) return 2;
+          throw flextrack::InputError("", "'flextrack run' of a multibody scene runs on one process: start it without "
+                                          "mpirun (studies: mpirun ... flextrack sweep; large bodies: mpirun ... flextrack "
+                                          "reduce BODY.prm first)",
+                                      options.file);
+        }
+      return run_command(options, file);
+    }
   if (file.model == "study")
     throw flextrack::InputError("Model", "is 'study': run a study with 'flextrack sweep " + options.file + "'", options.file);
   start_mpi(nullptr, nullptr);
@@ -275,6 +289,11 @@ int dispatch(std::vector<std::string> args, int *argc, char ***argv)
                        "'; allowed: run, linearize, bench, sweep, modes, converge, reduce, static, inspect, export, print-parameters");
   Options options;
   if (const auto problem = parse_options(command, args, options); !problem.empty()) return usage_error(problem);
+  // A multibody simulation runs on one process; under mpirun every process would run it and
+  // write the same files (and reduce its bodies together while holding their cache locks).
+  if (flextrack::base::started_by_mpirun() && (command == "linearize" || command == "bench"))
+    return usage_error("'" + command + "' runs on one process: start it without mpirun (mpirun -np N flextrack sweep "
+                       "shares the cases of a study over N processes)");
   if (row->needs_mpi) start_mpi(argc, argv);
   if (row->on_options) return row->on_options(options);
   return row->on_scene(options, flextrack::io::SceneFile::read(options.file, options.overrides));
@@ -310,7 +329,8 @@ int main(int argc, char **argv)
   int started = 0, finished = 0;
   MPI_Initialized(&started);
   MPI_Finalized(&finished);
-  if (started && !finished && status != 0 && argc > 1 && is_collective_command(argv[1]))
+  if (started && !finished && status != 0 &&
+      ((argc > 1 && is_collective_command(argv[1])) || collective_work_started()))
     {
       // A failure on some processes of a collective command (a distributed reduction whose
       // first process cannot write its file) would leave the others waiting in a collective

@@ -2,6 +2,7 @@
 // when up to date, else built and written), its text results and exports.
 // flextrack inspect: print what a reduced body file holds.
 #include <app/commands.h>
+#include <app/exit_status.h>
 #include <base/input_error.h>
 #include <base/mpi_session.h>
 #include <io/body_export.h>
@@ -61,6 +62,7 @@ int reduce_command(const Options &options, const io::SceneFile &file)
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
   const std::string body_file = out.path() + "/reduced_body.h5";
   std::cout << "flextrack reduce: " << options.file << " (input hash " << scene.input_hash << ")" << std::endl;
+  if (n_processes > 1) start_collective_work();
   if (n_processes > 1)
     std::cout << "  distributed over " << n_processes << " processes (MPI): MUMPS factorises, PARPACK solves the "
               << "eigenproblem; every process holds the whole body model" << std::endl;

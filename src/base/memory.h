@@ -79,9 +79,21 @@ inline double available_memory_bytes(const double used_here)
 {
   double available = 1024.0 * memory_detail::read_number("/proc/meminfo", "MemAvailable:");
   if (!(available > 0)) available = HUGE_VAL;
-  const double limit = memory_detail::read_number("/sys/fs/cgroup/memory.max"); // -1 for "max"
-  const double current = memory_detail::read_number("/sys/fs/cgroup/memory.current");
-  if (limit > 0 && current >= 0) available = std::min(available, limit - current);
+  // The process' own control group (cgroup v2: the line "0::/path" of /proc/self/cgroup), where
+  // a batch system puts a job's limit, and the root's.
+  std::string group;
+  {
+    std::ifstream in("/proc/self/cgroup");
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("0::", 0) == 0) group = line.substr(3);
+  }
+  for (const std::string &folder : {"/sys/fs/cgroup" + group, std::string("/sys/fs/cgroup")})
+    {
+      const double limit = memory_detail::read_number((folder + "/memory.max").c_str()); // -1 for "max"
+      const double current = memory_detail::read_number((folder + "/memory.current").c_str());
+      if (limit > 0 && current >= 0) available = std::min(available, limit - current);
+    }
   if (const char *cap = std::getenv("FLEXTRACK_MEMORY_LIMIT"); cap && *cap)
     {
       char *end = nullptr;
@@ -146,13 +158,14 @@ inline void check_memory_for(const std::string &what, const double bytes, const 
     << used_here / GiB << " GiB already), but only " << available / GiB << " GiB are available there; it was not started. ";
   // A machine with one process has what this one has, plus what the others of it hold now.
   const double room_for_one = available + used_here * (on_machine - 1) / on_machine;
-  if (use == MemoryUse::replicated)
-    m << "Every process holds all of it: run fewer processes on each machine, ";
-  else if (room_for_one > 1e-3 * total)
-    m << "The factor is about " << total / GiB << " GiB in all, which the processes share: run on about "
-      << std::ceil(total / room_for_one) << " machines like this one, one process on each (mpirun), ";
+  const double machines = std::ceil(total / room_for_one);
+  if (use == MemoryUse::replicated && n_processes > 1)
+    m << "Every process holds all of it: run fewer processes on each machine, or run ";
+  else if (use == MemoryUse::shared_factor && available > 0 && room_for_one > 1e-3 * total && machines > 1)
+    m << "The factor is about " << total / GiB << " GiB in all, which the processes share: run on about " << machines
+      << " machines like this one, one process on each (mpirun), or run ";
   else
-    m << "Free memory on this machine, run on machines with more memory (mpirun, one process on each), ";
+    m << "Free memory on this machine, or run ";
   m << "on a machine with more memory, or with a coarser mesh (FLEXTRACK_MEMORY_LIMIT [GiB], if set, caps the "
        "memory assumed available)";
   throw SolverError(m.str());

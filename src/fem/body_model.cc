@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -80,7 +81,12 @@ void BodyModel::check_memory_for_solid(const Solid &solid)
   // program's 0.18 GB): 10.25 kB per dof for the 2.4e5-dof body; 7.7 kB once the ordering's
   // workspace is given back (the log's "held then"). Rounded up. Every process of a distributed
   // reduction holds all of it.
-  constexpr double bytes_per_dof = 11000;
+  // Other elements couple more or fewer dofs per row: scaled by their typical row length, about
+  // 81 entries for hex8, 160 for hex20 (the link above) and 300 for hex27.
+  constexpr double bytes_per_hex20_dof = 11000;
+  const double bytes_per_dof = bytes_per_hex20_dof * (solid.element == SolidElement::hex8    ? 81.0 / 160
+                                                      : solid.element == SolidElement::hex27 ? 300.0 / 160
+                                                                                             : 1.0);
   const auto &tria = solid.mesh->triangulation;
   double nodes = tria.n_vertices();
   if (solid.element != SolidElement::hex8) nodes += tria.n_lines();
@@ -88,7 +94,7 @@ void BodyModel::check_memory_for_solid(const Solid &solid)
   const double dofs = 3 * nodes;
   const MPI_Comm communicator = base::fe_communicator();
   std::ostringstream what;
-  what << "assembling the body model (" << dofs << " solid dofs; every process holds all of it)";
+  what << "assembling the body model (" << static_cast<std::uint64_t>(dofs) << " solid dofs)";
   base::check_memory_for(what.str(), bytes_per_dof * dofs, &communicator, base::MemoryUse::replicated);
 }
 

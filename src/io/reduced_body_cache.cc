@@ -22,6 +22,7 @@
 #include <cerrno>
 #include <memory>
 #include <optional>
+#include <sstream>
 
 namespace flextrack::io
 {
@@ -146,11 +147,9 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
   {
     TimerOutput::Scope t(timer, "load cached reduced body");
     result.from_cache = first && load_if_up_to_date(file, scene.input_hash, result.body, log);
-    if (several)
-      {
-        result.from_cache = dealii::Utilities::MPI::broadcast(communicator, result.from_cache, 0);
-        if (result.from_cache && !first) result.body = read_reduced_body(file);
-      }
+    // The other processes take part in reducing only (their caller, reduce_command, returns):
+    // they do not read the file, which may be on the first process' machine alone.
+    if (several) result.from_cache = dealii::Utilities::MPI::broadcast(communicator, result.from_cache, 0);
   }
   if (result.from_cache)
     {
@@ -170,10 +169,14 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
           << (model->is_supported() ? "supported" : "free") << ")\n";
       const auto basis = reduction::reduce(*model, scene.reduction, &timer);
       if (basis.factor_bytes > 0)
-        log << "  factorisation: about " << std::setprecision(3) << basis.factor_bytes / 1073741824.0
-            << " GiB per process (estimated before it was made" << (several ? ", on the process that holds most" : "")
-            << "), on top of " << basis.held_before_factor_bytes / 1073741824.0
-            << " GiB held then (the body model and its matrices)\n";
+        {
+          std::ostringstream line; // its precision stays here, not on the log
+          line.precision(3);
+          line << "  factorisation: about " << basis.factor_bytes / 1073741824.0 << " GiB per process (estimated before it was made"
+               << (several ? ", on the process that holds most" : "") << "), on top of "
+               << basis.held_before_factor_bytes / 1073741824.0 << " GiB held then (the body model and its matrices)\n";
+          log << line.str();
+        }
       {
         TimerOutput::Scope t(timer, "invariants, mode fields, drawing");
         result.body = reduction::make_reduced_body(*model, basis, scene.reduction.method_name());

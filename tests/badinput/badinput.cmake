@@ -26,7 +26,7 @@ set(FLEXTRACK_HOSTILE_SCENE_CASES
   cached_body_with_nan_stiffness_is_rebuilt cached_body_with_20_flipped_bits_is_rebuilt
   cached_body_of_negative_mass_with_matching_checksum_is_rebuilt multibody_run_rebuilds_a_damaged_cached_body
   track_stations_2147483647
-  mpirun_reduce mpirun_reduce_unwritable_output)
+  mpirun_reduce mpirun_reduce_unwritable_output mpirun_run_multibody)
 find_program(MPIRUN mpirun)
 foreach(case ${FLEXTRACK_HOSTILE_SCENE_CASES})
   add_test(NAME badinput_scene_${case}
@@ -34,7 +34,8 @@ foreach(case ${FLEXTRACK_HOSTILE_SCENE_CASES})
             ${CMAKE_CURRENT_BINARY_DIR}/badinput/hostile_scenes ${case} ${MPIRUN})
   set_tests_properties(badinput_scene_${case} PROPERTIES LABELS badinput TIMEOUT 120)
 endforeach()
-set_tests_properties(badinput_scene_mpirun_reduce badinput_scene_mpirun_reduce_unwritable_output PROPERTIES PROCESSORS 2)
+set_tests_properties(badinput_scene_mpirun_reduce badinput_scene_mpirun_reduce_unwritable_output
+  badinput_scene_mpirun_run_multibody PROPERTIES PROCESSORS 2)
 
 # Multibody scenes that start at a singular configuration (issue 23, item 2): a slider-crank at a
 # dead point of its turned guide and a four-bar with its links in line are refused by run and

@@ -276,6 +276,12 @@ CASES = {
     # 2026-11 on; distributed since issue 27: the first process writes one complete file).
     "mpirun_reduce": dict(files={"s.prm": "<small body>"}, args=["reduce", "s.prm", "-o", "out"], mpi=2,
                           status=0, outputs=["reduced_body.h5", "summary.json"]),
+    # A multibody run under mpirun: every process would simulate and write the same files, and
+    # reduce its flexible bodies together while each held their cache lock (a deadlock).
+    "mpirun_run_multibody": dict(files={"s.prm": "<small body>", "m.prm": PENDULUM_OF_SMALL_BODY},
+                                 args=["run", "m.prm"], mpi=2, status=2,
+                                 regex=r"m.prm: 'flextrack run' of a multibody scene runs on one process: start it "
+                                       r"without mpirun", entry="", names_file=False),
     # A distributed reduction whose first process cannot write: every process ends (MPI_Abort),
     # none waits for ever in a collective step.
     "mpirun_reduce_unwritable_output": dict(files={"s.prm": "<small body>"},

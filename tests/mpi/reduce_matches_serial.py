@@ -7,8 +7,8 @@ the same finite element model, so the reference of the distributed file is the s
 - frequencies of the reduced model to 1e-9 relative;
 - the modes equal up to sign, or up to a rotation within a group of repeated frequencies: the
   transformation T that maps the serial modes onto the distributed ones (least squares on the
-  drawn displacement fields) must be orthogonal to 1e-8 and reproduce them to 1e-8 of their
-  largest entry;
+  drawn displacement fields) must be orthogonal to 1e-7 (a check of the fit) and reproduce them
+  to 1e-8 of their largest entry;
 - reduced stiffness and mass, and every inertia invariant, equal after that transformation
   (K_2 = T^T K_1 T, I3_2 = I3_1 T, P_2,k = sum_j T_jk P_1,j, Q_2,kl = sum T_jk T_ml Q_1,jm) to
   1e-8 of the largest entry of each;
@@ -153,6 +153,14 @@ def main():
     compare_bodies(files["serial"], files["mpi"])
 
     compare_runs(exe, scene_prm, folders, env)
+
+    # The estimates are not absurd: with 1 GiB for the program on this machine (it holds about
+    # 0.2 GiB per process) the small body is reduced, on one and on two processes.
+    for name, launcher in [("serial", []), ("mpi", [mpirun, "-np", "2", "--oversubscribe"])]:
+        folder = os.path.join(out, "capped_" + name)
+        os.makedirs(folder)
+        run(launcher + [exe, "reduce", body_prm], folder, dict(env, FLEXTRACK_MEMORY_LIMIT="1"))
+        check(os.path.exists(os.path.join(folder, "output", stem, "reduced_body.h5")), f"{name}: reduced within 1 GiB")
 
     # A body that does not fit is refused before it is assembled, on one and on two processes
     # (the factorisation's own check, which comes later, is tested in

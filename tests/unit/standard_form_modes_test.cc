@@ -121,7 +121,11 @@ TEST(SparseFactorization, refuses_a_factor_that_does_not_fit)
       EXPECT_GE(bytes, 8 * lower_triangle) << method;
       EXPECT_LE(bytes, 8 * n * (n + 1) / 2 + 16 * K.n_nonzero_elements()) << method;
     }
-  setenv("FLEXTRACK_MEMORY_LIMIT", "1e-6", 1);
+  struct Limit // set for this scope only, whatever ends it
+  {
+    Limit() { setenv("FLEXTRACK_MEMORY_LIMIT", "1e-6", 1); }
+    ~Limit() { unsetenv("FLEXTRACK_MEMORY_LIMIT"); }
+  } limit;
   for (const std::string method : {"cholmod", "mumps"})
     try
       {
@@ -135,5 +139,4 @@ TEST(SparseFactorization, refuses_a_factor_that_does_not_fit)
         EXPECT_NE(text.find("of the " + std::to_string(K.m()) + "-dof matrix needs about"), std::string::npos) << text;
         EXPECT_NE(text.find("it was not started"), std::string::npos) << text;
       }
-  unsetenv("FLEXTRACK_MEMORY_LIMIT");
 }
