@@ -179,15 +179,6 @@ const std::vector<Command> &commands()
   return table;
 }
 
-/// Whether @p command works on distributed matrices under mpirun: all its processes take part in
-/// every step, so a failure of one leaves the others waiting.
-bool is_collective_command(const std::string &command)
-{
-  for (const auto &c : commands())
-    if (command == c.name) return c.needs_mpi;
-  return false;
-}
-
 /// True, with @p value set, if @p text is a whole integer from @p lowest to @p highest.
 bool integer_in(const std::string &text, const int lowest, const int highest, unsigned int &value)
 {
@@ -294,7 +285,11 @@ int dispatch(std::vector<std::string> args, int *argc, char ***argv)
   if (flextrack::base::started_by_mpirun() && (command == "linearize" || command == "bench"))
     return usage_error("'" + command + "' runs on one process: start it without mpirun (mpirun -np N flextrack sweep "
                        "shares the cases of a study over N processes)");
-  if (row->needs_mpi) start_mpi(argc, argv);
+  if (row->needs_mpi)
+    {
+      start_mpi(argc, argv);
+      start_collective_work(); // these commands work on distributed matrices under mpirun
+    }
   if (row->on_options) return row->on_options(options);
   return row->on_scene(options, flextrack::io::SceneFile::read(options.file, options.overrides));
 }
@@ -329,8 +324,7 @@ int main(int argc, char **argv)
   int started = 0, finished = 0;
   MPI_Initialized(&started);
   MPI_Finalized(&finished);
-  if (started && !finished && status != 0 &&
-      ((argc > 1 && is_collective_command(argv[1])) || collective_work_started()))
+  if (started && !finished && status != 0 && collective_work_started())
     {
       // A failure on some processes of a collective command (a distributed reduction whose
       // first process cannot write its file) would leave the others waiting in a collective

@@ -62,10 +62,12 @@ int reduce_command(const Options &options, const io::SceneFile &file)
   io::OutputFolder out(io::OutputFolder::choose(options.output_directory, scene.output.directory, options.file));
   const std::string body_file = out.path() + "/reduced_body.h5";
   std::cout << "flextrack reduce: " << options.file << " (input hash " << scene.input_hash << ")" << std::endl;
-  if (n_processes > 1) start_collective_work();
   if (n_processes > 1)
-    std::cout << "  distributed over " << n_processes << " processes (MPI): MUMPS factorises, PARPACK solves the "
-              << "eigenproblem; every process holds the whole body model" << std::endl;
+    {
+      start_collective_work(); // also when 'run' of a body scene got here
+      std::cout << "  distributed over " << n_processes << " processes (MPI): MUMPS factorises, PARPACK solves the "
+                << "eigenproblem; every process holds the whole body model" << std::endl;
+    }
   const auto obtained = io::cached_or_reduced_body(scene, body_file, std::cout, timer);
   const auto &body = obtained.body;
   // Each process' peak so far (the reduction's), for the memory a distributed run needs.

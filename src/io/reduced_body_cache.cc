@@ -140,7 +140,7 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
   // Under MPI (a distributed reduction, reduction/component_modes.cc) the first process looks
   // the body up, locks and writes it; all take part in reducing it.
   const MPI_Comm communicator = base::fe_communicator();
-  const bool first = base::fe_rank() == 0;
+  const bool first = is_first_process();
   const bool several = base::fe_processes() > 1;
   std::optional<CacheLock> lock;
   if (first) lock.emplace(file, log);

@@ -112,32 +112,31 @@ void restrict_matrices(const TrilinosWrappers::SparseMatrix &K, const TrilinosWr
                        const unsigned int n_rows, const MPI_Comm communicator, TrilinosWrappers::SparseMatrix &K_kept,
                        TrilinosWrappers::SparseMatrix &M_kept)
 {
-  // K first; M has K's pattern and gets K_kept's graph (only its values are new).
-  for (int which = 0; which < 2; ++which)
-    {
-      const Epetra_CrsMatrix &a = (which == 0 ? K : M).trilinos_matrix();
-      // Visit the kept entries of the wanted rows: first to collect the pattern, then to add the values.
-      auto visit = [&](auto &&use) {
-        for (int r = 0; r < a.NumMyRows(); ++r)
-          {
-            const int row = keep[a.RowMap().GID(r)] - static_cast<int>(first_row);
-            if (row < 0 || row >= static_cast<int>(n_rows)) continue;
-            int n, *idx;
-            double *v;
-            a.ExtractMyRowView(r, n, v, idx);
-            for (int e = 0; e < n; ++e)
-              if (const int c = keep[a.ColMap().GID(idx[e])]; c >= 0) use(row, c, v[e]);
-          }
-      };
-      std::vector<std::vector<int>> rows(n_rows);
-      visit([&](int row, int c, double) { rows[row].push_back(c); });
-      fem::CsrMatrix b(std::move(rows));
-      visit([&](int row, int c, double v) { b.add(row, c, v); });
-      if (which == 0)
-        b.to_trilinos(K_kept, first_row, n_kept, communicator);
-      else
-        b.to_trilinos_on_graph_of(K_kept, M_kept, first_row);
-    }
+  // Visit the kept entries of the wanted rows of @p a.
+  auto visit = [&](const TrilinosWrappers::SparseMatrix &matrix, auto &&use) {
+    const Epetra_CrsMatrix &a = matrix.trilinos_matrix();
+    for (int r = 0; r < a.NumMyRows(); ++r)
+      {
+        const int row = keep[a.RowMap().GID(r)] - static_cast<int>(first_row);
+        if (row < 0 || row >= static_cast<int>(n_rows)) continue;
+        int n, *idx;
+        double *v;
+        a.ExtractMyRowView(r, n, v, idx);
+        for (int e = 0; e < n; ++e)
+          if (const int c = keep[a.ColMap().GID(idx[e])]; c >= 0) use(row, c, v[e]);
+      }
+  };
+  // K: its pattern, then its values.
+  std::vector<std::vector<int>> rows(n_rows);
+  visit(K, [&](int row, int c, double) { rows[row].push_back(c); });
+  fem::CsrMatrix b(std::move(rows));
+  visit(K, [&](int row, int c, double v) { b.add(row, c, v); });
+  b.to_trilinos(K_kept, first_row, n_kept, communicator);
+  // M has K's pattern (one sparsity pattern for the body): K's storage takes its values, and
+  // K_kept's graph holds them.
+  std::fill(b.values.begin(), b.values.end(), 0.0);
+  visit(M, [&](int row, int c, double v) { b.add(row, c, v); });
+  b.to_trilinos_on_graph_of(K_kept, M_kept, first_row);
 }
 
 /// The body's matrices with some dofs clamped: restricted matrices, their factorisation, and
