@@ -1,6 +1,7 @@
 #include <base/input_error.h>
 #include <base/memory.h>
 #include <base/text.h>
+#include <reduction/block_lanczos.h>
 #include <reduction/modal_solver.h>
 #include <reduction/sparse_factorization.h>
 
@@ -9,6 +10,9 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_solver.h>
 #include <deal.II/lac/trilinos_vector.h>
+
+#include <Epetra_CrsMatrix.h>
+#include <Epetra_MultiVector.h>
 
 #include <algorithm>
 #include <functional>
@@ -105,32 +109,22 @@ void check_number_of_modes(const ModalSettings &settings, const unsigned int n_f
 
 namespace
 {
-/// out = M in, on this process' share of the dofs.
-using LocalMassProduct = std::function<void(const double *in, double *out)>;
+/// out = M in for @p k vectors one after the other, on this process' share of the dofs.
+using LocalMassProduct = std::function<void(const double *in, double *out, unsigned int k)>;
 
-/// Shift-invert Lanczos on the dofs @p owned (of @p n_global) of this process of @p comm:
-/// every process holds its share of the vectors, and ARPACK's parallel version (PARPACK) runs
-/// the iteration on them (a serial problem lives on MPI_COMM_SELF).
-Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_global, const unsigned int n_free,
-              const ModalSettings &settings, const double shift, const LocalMassProduct &apply_mass,
-              const SparseFactorization &factorization)
+/// ARPACK's implicitly restarted Lanczos (PARPACK, reverse communication) on the symmetric
+/// generalised problem in shift-invert mode or, when @p standard, on the standard problem of
+/// lanczos() below. The Krylov space lives in the free dofs (M vanishes on the supported ones).
+/// Out: @p lambda (theta in the standard form), the vectors @p z, how many @p converged, and
+/// ARPACK's restarts (@p iterations).
+void arpack_lanczos(const MPI_Comm comm, const IndexSet &owned, const unsigned int n_free,
+                    const ModalSettings &settings, const bool standard, const LocalMassProduct &apply_mass,
+                    const SparseFactorization &factorization, std::vector<double> &lambda, std::vector<double> &z,
+                    unsigned int &converged, int &iterations, const double shift)
 {
-  const bool parallel = Utilities::MPI::n_mpi_processes(comm) > 1;
   int n_local = owned.n_elements();
   int nev = settings.n_modes;
   auto apply_inverse = [&](const double *in, double *out) { factorization.solve(in, out); };
-  // With A = K - sigma M = P^T L L^T P in halves (one process, Cholesky), the iteration runs on
-  // the standard problem L^{-1} P M P^T L^{-T} y = theta y, theta = 1 / (lambda - sigma),
-  // phi = P^T L^{-T} y: one product with M per step. The generalised form (mode 3) needs about
-  // three, for its M-inner products; its Krylov space is the same up to the change of variables.
-  const bool standard = !parallel && factorization.has_halves();
-  auto dot = [&](const double *u, const double *v) {
-    return Utilities::MPI::sum(std::inner_product(u, u + n_local, v, 0.0), comm);
-  };
-
-  // ARPACK reverse communication: the symmetric generalised problem in shift-invert mode, or
-  // the standard problem above. The Krylov space lives in the free dofs (M vanishes on the
-  // supported ones).
   int ncv = std::min<int>(n_free, std::max(2 * nev + 1, nev + 20));
   int ldv = n_local;
   int ido = 0, info = 1, lworkl = ncv * (ncv + 8);
@@ -143,7 +137,7 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
     workl(lworkl), tmp(n_local), tmp2(standard ? n_local : 0);
   auto standard_operator = [&](const double *in, double *out) { // L^{-1} P M P^T L^{-T} in
     factorization.solve_upper(in, tmp.data());
-    apply_mass(tmp.data(), tmp2.data());
+    apply_mass(tmp.data(), tmp2.data(), 1);
     factorization.solve_lower(tmp2.data(), out);
   };
   {
@@ -154,7 +148,7 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
       standard_operator(start.data(), resid.data());
     else
       {
-        apply_mass(start.data(), tmp.data());
+        apply_mass(start.data(), tmp.data(), 1);
         apply_inverse(tmp.data(), resid.data());
       }
   }
@@ -172,17 +166,16 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
         standard_operator(in, out);
       else if (ido == -1)
         {
-          apply_mass(in, tmp.data());
+          apply_mass(in, tmp.data(), 1);
           apply_inverse(tmp.data(), out);
         }
       else if (ido == 1)
         apply_inverse(workd.data() + ipntr[2] - 1, out);
       else if (ido == 2)
-        apply_mass(in, out);
+        apply_mass(in, out, 1);
       else
         break;
     }
-  base::probe_memory("Lanczos done");
   if (info == 1)
     throw SolverError("the Lanczos iteration did not converge in " + std::to_string(settings.max_iterations) +
                       " restarts; raise 'Modal analysis/Maximum iterations' or 'Tolerance', or move 'Shift' "
@@ -193,7 +186,8 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
   int rvec = 1, ldz = n_local;
   char howmany = 'A';
   std::vector<int> select(ncv, 1);
-  std::vector<double> lambda(nev), z(static_cast<std::size_t>(n_local) * nev);
+  lambda.assign(nev, 0.0);
+  z.assign(static_cast<std::size_t>(n_local) * nev, 0.0);
   double sigma = shift;
   pdseupd_(&fortran_comm, &rvec, &howmany, select.data(), lambda.data(), z.data(), &ldz, &sigma, bmat, &n_local,
            which, &nev, &tol, resid.data(), &ncv, v.data(), &ldv, iparam.data(), ipntr.data(), workd.data(),
@@ -201,10 +195,64 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
   if (info != 0)
     throw SolverError("ARPACK dseupd failed with code " + std::to_string(info));
 
-  const unsigned int converged = iparam[4];
+  converged = iparam[4];
+  iterations = iparam[2];
   if (converged < static_cast<unsigned int>(nev))
     throw SolverError("only " + std::to_string(converged) + " of " + std::to_string(nev) +
                       " modes converged; raise 'Modal analysis/Maximum iterations'");
+}
+
+/// Shift-invert Lanczos on the dofs @p owned (of @p n_global) of this process of @p comm:
+/// every process holds its share of the vectors, and ARPACK's parallel version (PARPACK) runs
+/// the iteration on them (a serial problem lives on MPI_COMM_SELF).
+Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_global, const unsigned int n_free,
+              const ModalSettings &settings, const double shift, const LocalMassProduct &apply_mass,
+              const SparseFactorization &factorization)
+{
+  const bool parallel = Utilities::MPI::n_mpi_processes(comm) > 1;
+  int n_local = owned.n_elements();
+  int nev = settings.n_modes;
+  // With A = K - sigma M = P^T L L^T P in halves (one process, Cholesky), the iteration runs on
+  // the standard problem L^{-1} P M P^T L^{-T} y = theta y, theta = 1 / (lambda - sigma),
+  // phi = P^T L^{-T} y: one product with M per step. The generalised form (mode 3) needs about
+  // three, for its M-inner products; its Krylov space is the same up to the change of variables.
+  const bool standard = !parallel && factorization.has_halves();
+  auto dot = [&](const double *u, const double *v) {
+    return Utilities::MPI::sum(std::inner_product(u, u + n_local, v, 0.0), comm);
+  };
+
+  std::vector<double> lambda, z, tmp(n_local); // eigenvalues (theta in the standard form), vectors
+  unsigned int converged = 0;
+  int iterations = 0;
+  if (standard)
+    {
+      // Block Lanczos (block_lanczos.h): the factor and M read once per block of vectors, not once
+      // per vector. For the 20 modes of the 1e5-dof link, blocks of 4 took 23 steps (92 vectors,
+      // 46 passes over the factor; ARPACK: 63 vectors, 126 passes), blocks of 6 and 8 19 and 16
+      // steps (doc/benchmarks.md). The basis may grow to 6 nev + 40 vectors (no restart); should
+      // that not be enough, ARPACK below takes over, restarting in less memory.
+      const unsigned int block = 4;
+      std::vector<double> upper, massed;
+      auto standard_block = [&](const double *in, double *out, const unsigned int k) { // L^{-1} P M P^T L^{-T} in
+        upper.resize(static_cast<std::size_t>(n_local) * k);
+        massed.resize(upper.size());
+        factorization.solve_upper(in, upper.data(), k);
+        apply_mass(upper.data(), massed.data(), k);
+        factorization.solve_lower(massed.data(), out, k);
+      };
+      const std::size_t max_basis = std::min<std::size_t>(n_free, 6 * std::size_t(nev) + 40);
+      if (auto pairs = block_lanczos(standard_block, n_local, nev, block, max_basis, settings.tolerance))
+        {
+          lambda = std::move(pairs->values);
+          z = std::move(pairs->vectors);
+          converged = nev;
+          iterations = pairs->block_steps;
+        }
+    }
+  if (converged == 0)
+    arpack_lanczos(comm, owned, n_free, settings, standard, apply_mass, factorization, lambda, z, converged, iterations,
+                   shift);
+  base::probe_memory("Lanczos done");
   if (standard)
     {
       // Back from theta and y to lambda and phi. No refinement of the Ritz vectors as mode 3's
@@ -212,23 +260,20 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
       // product is Euclidean and OP symmetric, so the Ritz vectors of the wanted (non-zero) theta
       // are orthogonal to OP's null space (M's, the supported dofs) to round-off. Adding one step
       // of inverse iteration cost 7 % of the 74k-dof solid's run and 1 s of the 1e5-dof body's.
-      for (unsigned int k = 0; k < converged; ++k)
-        {
-          lambda[k] = shift + 1.0 / lambda[k];
-          double *y = z.data() + static_cast<std::size_t>(k) * n_local;
-          factorization.solve_upper(y, tmp.data());
-          std::copy(tmp.begin(), tmp.end(), y);
-        }
+      // All vectors in one pass over the factor (memory-bound: about as fast as one vector).
+      for (unsigned int k = 0; k < converged; ++k) lambda[k] = shift + 1.0 / lambda[k];
+      std::vector<double> y(z.begin(), z.begin() + static_cast<std::size_t>(n_local) * converged);
+      factorization.solve_upper(y.data(), z.data(), converged);
     }
   std::vector<int> order(converged);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return lambda[a] < lambda[b]; });
   Modes modes;
-  modes.iterations = iparam[2];
+  modes.iterations = iterations;
   for (const int k : order)
     {
       double *phi = z.data() + static_cast<std::size_t>(k) * n_local;
-      apply_mass(phi, tmp.data());
+      apply_mass(phi, tmp.data(), 1);
       const double norm = std::sqrt(dot(phi, tmp.data()));
       // Mass-normalise; sign convention: the largest component is positive (reproducible runs).
       double largest = 0;
@@ -257,11 +302,12 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
   const MPI_Comm comm = K.get_mpi_communicator();
   const IndexSet &owned = K.locally_owned_range_indices();
   const std::size_t n_local = owned.n_elements();
-  TrilinosWrappers::MPI::Vector x(owned, comm), b(owned, comm);
-  auto apply_mass = [&](const double *in, double *out) {
-    std::copy(in, in + n_local, b.begin());
-    M.vmult(x, b);
-    std::copy(x.begin(), x.end(), out);
+  // Epetra views of the caller's arrays: k vectors in one pass over M.
+  auto apply_mass = [&](const double *in, double *out, const unsigned int k) {
+    const Epetra_CrsMatrix &m = M.trilinos_matrix();
+    const Epetra_MultiVector x(View, m.DomainMap(), const_cast<double *>(in), n_local, k);
+    Epetra_MultiVector y(View, m.RangeMap(), out, n_local, k);
+    m.Multiply(false, x, y);
   };
   return lanczos(comm, owned, K.m(), n_free, settings, shift, apply_mass, factorization);
 }
@@ -331,6 +377,9 @@ Modes lowest_modes_releasing_matrices(fem::SolidModel &model, const ModalSetting
   const fem::SolidMassOperator &mass = model.mass_operator();
   const std::size_t n = model.n_dofs();
   return lanczos(MPI_COMM_SELF, complete_index_set(n), n, model.n_free_dofs(), settings, shift,
-                 [&](const double *in, double *out) { mass.vmult(in, out); }, factorization);
+                 [&](const double *in, double *out, const unsigned int k) {
+                   for (unsigned int c = 0; c < k; ++c) mass.vmult(in + c * n, out + c * n);
+                 },
+                 factorization);
 }
 } // namespace flextrack::reduction

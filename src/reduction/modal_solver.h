@@ -47,7 +47,7 @@ struct Modes
   std::vector<double> eigenvalues;            ///< w^2 [rad^2/s^2], ascending
   std::vector<dealii::Vector<double>> shapes; ///< mass-normalised: phi^T M phi = 1
   std::vector<double> frequencies_hz() const; ///< sign(w^2) sqrt(|w^2|) / (2 pi)
-  unsigned int iterations = 0;                ///< Lanczos restarts used
+  unsigned int iterations = 0;                ///< ARPACK: Lanczos restarts; block Lanczos: block steps
 };
 
 /// @p n_free: number of unconstrained dofs (at most that many finite modes exist);

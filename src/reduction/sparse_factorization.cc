@@ -1,3 +1,4 @@
+#include <base/large_pages.h>
 #include <base/memory.h>
 #include <base/solver_error.h>
 #include <reduction/modal_solver.h>
@@ -31,6 +32,10 @@ struct SparseFactorization::Cholmod
   std::vector<int> order;
   Cholmod()
   {
+    // The factor of a large body is the largest array of a reduction: on 2 MiB pages
+    // (base/large_pages.h). SuiteSparse's allocator is process-wide; this only adds advice.
+    SuiteSparse_config.malloc_func = base::malloc_on_large_pages;
+    SuiteSparse_config.calloc_func = base::calloc_on_large_pages;
     cholmod_start(&common);
     common.print = 0; // a matrix that is not positive definite is reported by the caller, not on stderr
   }
@@ -332,26 +337,32 @@ bool SparseFactorization::has_halves() const
   return cholmod && !cholmod->order.empty() && cholmod->factor->is_ll;
 }
 
-void SparseFactorization::solve_lower(const double *b, double *y) const
+void SparseFactorization::solve_lower(const double *B, double *Y, const unsigned int k) const
 {
   // The factor is of P A P^T, analysed in CHOLMOD's natural order: CHOLMOD permutes only for
   // its systems P, Pt and A of a factor in another order, so P is applied here.
   const std::size_t n = cholmod->rhs->nrow;
-  auto *permuted = static_cast<double *>(cholmod->rhs->x);
-  for (std::size_t p = 0; p < n; ++p) permuted[p] = b[cholmod->order[p]];
-  cholmod_dense *solution = cholmod_solve(CHOLMOD_L, cholmod->factor, cholmod->rhs, &cholmod->common);
-  std::copy_n(static_cast<const double *>(solution->x), n, y);
+  cholmod_dense *many = k == 1 ? cholmod->rhs : cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &cholmod->common);
+  auto *permuted = static_cast<double *>(many->x);
+  for (std::size_t c = 0; c < k; ++c)
+    for (std::size_t p = 0; p < n; ++p) permuted[c * n + p] = B[c * n + cholmod->order[p]];
+  cholmod_dense *solution = cholmod_solve(CHOLMOD_L, cholmod->factor, many, &cholmod->common);
+  std::copy_n(static_cast<const double *>(solution->x), n * k, Y);
   cholmod_free_dense(&solution, &cholmod->common);
+  if (many != cholmod->rhs) cholmod_free_dense(&many, &cholmod->common);
 }
 
-void SparseFactorization::solve_upper(const double *y, double *x) const
+void SparseFactorization::solve_upper(const double *Y, double *X, const unsigned int k) const
 {
   const std::size_t n = cholmod->rhs->nrow;
-  std::copy_n(y, n, static_cast<double *>(cholmod->rhs->x));
-  cholmod_dense *solution = cholmod_solve(CHOLMOD_Lt, cholmod->factor, cholmod->rhs, &cholmod->common);
+  cholmod_dense *many = k == 1 ? cholmod->rhs : cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &cholmod->common);
+  std::copy_n(Y, n * k, static_cast<double *>(many->x));
+  cholmod_dense *solution = cholmod_solve(CHOLMOD_Lt, cholmod->factor, many, &cholmod->common);
   const auto *z = static_cast<const double *>(solution->x);
-  for (std::size_t p = 0; p < n; ++p) x[cholmod->order[p]] = z[p];
+  for (std::size_t c = 0; c < k; ++c)
+    for (std::size_t p = 0; p < n; ++p) X[c * n + cholmod->order[p]] = z[c * n + p];
   cholmod_free_dense(&solution, &cholmod->common);
+  if (many != cholmod->rhs) cholmod_free_dense(&many, &cholmod->common);
 }
 
 void SparseFactorization::solve_many(const double *B, double *X, const unsigned int k) const

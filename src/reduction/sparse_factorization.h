@@ -55,10 +55,11 @@ public:
   double memory_estimate_bytes() const { return estimated_bytes; }
   /// This process' resident memory when the factorisation started [bytes]: what it held besides.
   double resident_bytes_before() const { return resident_before; }
-  /// y = L^{-1} P b (has_halves() only).
-  void solve_lower(const double *b, double *y) const;
-  /// x = P^T L^{-T} y (has_halves() only).
-  void solve_upper(const double *y, double *x) const;
+  /// Y = L^{-1} P B for @p k columns stored one after the other (has_halves() only).
+  void solve_lower(const double *B, double *Y, unsigned int k = 1) const;
+  /// X = P^T L^{-T} Y for @p k columns stored one after the other (has_halves() only): one pass
+  /// over the factor for all of them.
+  void solve_upper(const double *Y, double *X, unsigned int k = 1) const;
 
 private:
   // Members are destroyed in reverse order: the solver before the problem, vectors and matrix
