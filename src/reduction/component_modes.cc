@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -200,12 +201,33 @@ public:
       for (std::size_t j = 0; j < m; ++j) B[c * m + j] = loads[c][kept[first_row + j]];
     if (k > 0) factorization().solve_many(B.data(), X.data(), k);
     std::vector<Vector<double>> x(k, Vector<double>(keep.size()));
-    for (std::size_t c = 0; c < k; ++c)
+    if (!distributed())
       {
-        for (std::size_t j = 0; j < m; ++j) x[c][kept[first_row + j]] = X[c * m + j];
-        // Each process solved its rows; every one continues with the whole solution.
-        if (distributed()) Utilities::MPI::sum(x[c], communicator, x[c]);
+        for (std::size_t c = 0; c < k; ++c)
+          for (std::size_t j = 0; j < m; ++j) x[c][kept[j]] = X[c * m + j];
+        return x;
       }
+    // Each process solved its block of rows; every one continues with the whole solution: one
+    // gather of all blocks (each process' k columns one after the other), not k sums of
+    // whole-length vectors that are zero but for one block.
+    const std::vector<unsigned int> firsts = Utilities::MPI::all_gather(communicator, first_row),
+                                    counts = Utilities::MPI::all_gather(communicator, n_rows);
+    std::vector<int> sizes(counts.size()), offsets(counts.size() + 1, 0);
+    for (std::size_t p = 0; p < counts.size(); ++p)
+      {
+        const std::size_t size = static_cast<std::size_t>(counts[p]) * k;
+        AssertThrow(size + offsets[p] <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                    ExcMessage("the static modes of this body are too many for one MPI message"));
+        sizes[p] = static_cast<int>(size);
+        offsets[p + 1] = offsets[p] + sizes[p];
+      }
+    std::vector<double> all(offsets.back());
+    MPI_Allgatherv(X.data(), static_cast<int>(m * k), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(), MPI_DOUBLE,
+                   communicator);
+    for (std::size_t p = 0; p < counts.size(); ++p)
+      for (std::size_t c = 0; c < k; ++c)
+        for (std::size_t j = 0; j < counts[p]; ++j)
+          x[c][kept[firsts[p] + j]] = all[offsets[p] + c * counts[p] + j];
     return x;
   }
   Vector<double> expand(const Vector<double> &xc) const

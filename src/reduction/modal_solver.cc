@@ -204,10 +204,11 @@ void arpack_lanczos(const MPI_Comm comm, const IndexSet &owned, const unsigned i
 
 /// Shift-invert Lanczos on the dofs @p owned (of @p n_global) of this process of @p comm:
 /// every process holds its share of the vectors, and ARPACK's parallel version (PARPACK) runs
-/// the iteration on them (a serial problem lives on MPI_COMM_SELF).
+/// the iteration on them (a serial problem lives on MPI_COMM_SELF). On one process with a
+/// Cholesky factor, block Lanczos runs first unless @p least_memory.
 Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_global, const unsigned int n_free,
               const ModalSettings &settings, const double shift, const LocalMassProduct &apply_mass,
-              const SparseFactorization &factorization)
+              const SparseFactorization &factorization, const bool least_memory = false)
 {
   const bool parallel = Utilities::MPI::n_mpi_processes(comm) > 1;
   int n_local = owned.n_elements();
@@ -224,13 +225,16 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
   std::vector<double> lambda, z, tmp(n_local); // eigenvalues (theta in the standard form), vectors
   unsigned int converged = 0;
   int iterations = 0;
-  if (standard)
+  if (standard && !least_memory)
     {
       // Block Lanczos (block_lanczos.h): the factor and M read once per block of vectors, not once
       // per vector. For the 20 modes of the 1e5-dof link, blocks of 4 took 23 steps (92 vectors,
       // 46 passes over the factor; ARPACK: 63 vectors, 126 passes), blocks of 6 and 8 19 and 16
       // steps (doc/benchmarks.md). The basis may grow to 6 nev + 40 vectors (no restart); should
-      // that not be enough, ARPACK below takes over, restarting in less memory.
+      // that not be enough, ARPACK below takes over, restarting in less memory. Not where the
+      // caller asks for the least memory (a solid's 'modes', whose M is applied cell by cell,
+      // which a block does not make cheaper): there the larger basis cost 7 % of the peak
+      // (74k dofs: 722 against 675 MB) and no time.
       const unsigned int block = 4;
       std::vector<double> upper, massed;
       auto standard_block = [&](const double *in, double *out, const unsigned int k) { // L^{-1} P M P^T L^{-T} in
@@ -260,10 +264,17 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
       // product is Euclidean and OP symmetric, so the Ritz vectors of the wanted (non-zero) theta
       // are orthogonal to OP's null space (M's, the supported dofs) to round-off. Adding one step
       // of inverse iteration cost 7 % of the 74k-dof solid's run and 1 s of the 1e5-dof body's.
-      // All vectors in one pass over the factor (memory-bound: about as fast as one vector).
+      // Eight vectors per pass over the factor (a pass is memory-bound: about as fast for eight
+      // as for one), in eight vectors' room rather than a copy of all of them.
       for (unsigned int k = 0; k < converged; ++k) lambda[k] = shift + 1.0 / lambda[k];
-      std::vector<double> y(z.begin(), z.begin() + static_cast<std::size_t>(n_local) * converged);
-      factorization.solve_upper(y.data(), z.data(), converged);
+      const std::size_t n = n_local;
+      std::vector<double> y;
+      for (unsigned int first = 0; first < converged; first += 8)
+        {
+          const unsigned int k = std::min(8u, converged - first);
+          y.assign(z.begin() + first * n, z.begin() + (first + k) * n);
+          factorization.solve_upper(y.data(), z.data() + first * n, k);
+        }
     }
   std::vector<int> order(converged);
   std::iota(order.begin(), order.end(), 0);
@@ -380,6 +391,6 @@ Modes lowest_modes_releasing_matrices(fem::SolidModel &model, const ModalSetting
                  [&](const double *in, double *out, const unsigned int k) {
                    for (unsigned int c = 0; c < k; ++c) mass.vmult(in + c * n, out + c * n);
                  },
-                 factorization);
+                 factorization, true);
 }
 } // namespace flextrack::reduction
