@@ -5,14 +5,18 @@
 // entries; on the virtual machines we measured, each fault costs several microseconds and the
 // TLB misses of the memory-bound triangular solves cost more: glibc's own switch for this
 // (GLIBC_TUNABLES=glibc.malloc.hugetlb=1, read only when a process starts) took the 1e5-dof
-// reduction from about 22 s to 17.5 s of user time (doc/benchmarks.md).
+// reduction from 22.3 s to 17.6 s of user time (one run each, 2026-12-02; doc/benchmarks.md).
 //
 // What: advise_large_pages asks the kernel to back every whole 2 MiB page inside an allocation
 // with a huge page on first touch (madvise MADV_HUGEPAGE; honoured when the kernel's THP mode is
 // "madvise" or "always", a no-op when it is "never"). Only allocations of at least 4 MiB are
 // advised, so that each holds at least one whole huge page and no small object is made to pin
 // 2 MiB of memory. malloc_on_large_pages and calloc_on_large_pages are malloc and calloc followed
-// by that advice: memory from them is released with free.
+// by that advice: memory from them is released with free. glibc serves blocks below its mmap
+// threshold (up to 32 MiB) from the heap: the advice then stays on that part of the heap after
+// the block is freed, and what is allocated there later is on huge pages too, which costs at
+// most the rounding to 2 MiB of that region. calloc zeroes heap blocks itself, before the
+// advice: those keep 4 KiB pages (blocks it maps fresh are advised before they are touched).
 #pragma once
 
 #include <cstddef>

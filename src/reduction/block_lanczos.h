@@ -7,7 +7,7 @@
 // for a 1e5-dof hex20 body). Solved for b vectors at once, the factor is read once for all of
 // them (CHOLMOD's supernodal solve turns into matrix-matrix products), so b vectors cost little
 // more than one. ARPACK's single-vector Lanczos read the factor 2 x 63 times for 20 modes of the
-// 1e5-dof link; this one reads it about 2 x 13 times (doc/benchmarks.md).
+// 1e5-dof link; this one, in blocks of 8, 2 x 17 times (doc/benchmarks.md).
 //
 // The method (Golub & Underwood's block Lanczos; Saad, "Numerical methods for large eigenvalue
 // problems", 2nd ed., section 6.5): V_0 is an orthonormal n x b block; step j applies the
@@ -19,9 +19,16 @@
 // || V_{j+1}^T A V_j s_j || (s_j: the last b entries of s), with no product by A. A pair is
 // converged when that residual is at most tol |theta|, ARPACK's test.
 //
-// Columns that vanish in the orthogonalisation (the Krylov space became invariant, e.g. a
-// repeated eigenvalue of multiplicity above b) are replaced by fresh vectors, orthogonal to the
-// basis: the projection stays exact, and the iteration goes on in the rest of the space.
+// Columns that vanish in the orthogonalisation (the Krylov space became invariant) are replaced
+// by fresh vectors, orthogonal to the basis: the projection stays exact, and the iteration goes
+// on in the rest of the space. A repeated eigenvalue is found with its whole eigenspace only if
+// its multiplicity is at most b (the block spans at most b directions of it; more come only
+// from round-off): callers choose b above the multiplicities they expect (a free body's six
+// rigid-body modes).
+//
+// The start block is the operator applied to smooth vectors, so that it lies in the operator's
+// range: Ritz vectors of non-zero eigenvalues then have no component in its null space (for
+// the shift-invert operator of a body, the supported dofs) beyond round-off.
 #pragma once
 
 #include <deal.II/lac/lapack_templates.h>
@@ -57,7 +64,14 @@ inline void gemm(const char ta, const char tb, const std::size_t rows, const std
                  const double *B, const std::size_t ldb, const double beta, double *C, const std::size_t ldc)
 {
   if (rows == 0 || cols == 0) return;
-  const blas_int m = rows, n = cols, k = inner, la = lda, lb = ldb, lc = ldc;
+  if (inner == 0) // no product: C = beta C (BLAS would reject a leading dimension of 0)
+    {
+      for (std::size_t c = 0; c < cols; ++c)
+        for (std::size_t r = 0; r < rows; ++r) C[c * ldc + r] = beta == 0 ? 0.0 : beta * C[c * ldc + r];
+      return;
+    }
+  const blas_int m = rows, n = cols, k = inner, la = std::max<std::size_t>(lda, 1), lb = std::max<std::size_t>(ldb, 1),
+                 lc = std::max<std::size_t>(ldc, 1);
   dealii::gemm(&ta, &tb, &m, &n, &k, &alpha, A, &la, B, &lb, &beta, C, &lc);
 }
 
@@ -113,6 +127,7 @@ inline void orthonormalise(const double *V, const std::size_t n, const std::size
               size_before[c] = size;
             }
           for (std::size_t i = 0; i < n; ++i) w[i] /= size;
+          size_before[c] = 1; // the second pass measures against the normalised column
         }
     }
 }
@@ -134,9 +149,11 @@ inline std::optional<BlockEigenpairs> block_lanczos(const BlockOperator &A, cons
   // Basis V (n x max_basis), projection H (max_basis x max_basis, upper triangle filled).
   std::vector<double> V(n * max_basis), H(max_basis * max_basis), W(n * b), AV(n * b), coupling(b * b);
   unsigned int seed = 0;
-  for (unsigned int c = 0; c < b; ++c) fill_start(V.data() + c * n, n, seed++);
+  for (unsigned int c = 0; c < b; ++c) fill_start(W.data() + c * n, n, seed++);
+  A(W.data(), V.data(), b);
   orthonormalise(V.data(), n, 0, V.data(), b, nullptr, seed);
   BlockEigenpairs result;
+  result.block_steps = 1;
   std::size_t m = b; // columns of V so far
   std::vector<double> S, theta;
   while (true)

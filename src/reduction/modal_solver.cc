@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <functional>
 #include <cmath>
+#include <new>
 #include <numeric>
 #include <sstream>
 
@@ -225,17 +226,19 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
   std::vector<double> lambda, z, tmp(n_local); // eigenvalues (theta in the standard form), vectors
   unsigned int converged = 0;
   int iterations = 0;
-  if (standard && !least_memory)
+  // Block Lanczos (block_lanczos.h): the factor and M read once per block of vectors, not once
+  // per vector. Blocks of 8, so that a free body's six equal rigid-body eigenvalues (and pairs of
+  // equal bending modes) are found whole, not only through round-off. For the 20 modes of the
+  // 1e5-dof link, blocks of 8 took 16 steps (128 vectors, 32 passes over the factor; ARPACK: 63
+  // vectors, 126 passes; blocks of 4: 23 steps) (doc/benchmarks.md). The basis may grow to
+  // 6 nev + 40 vectors (no restart), for at most 200 modes; beyond, or should that not be enough
+  // or not fit in memory, ARPACK below takes over, restarting in less memory. Not where the
+  // caller asks for the least memory (a solid's 'modes', whose M is applied cell by cell, which
+  // a block does not make cheaper): there the larger basis cost 7 % of the peak (74k dofs: 722
+  // against 675 MB) and no time.
+  if (standard && !least_memory && nev <= 200)
     {
-      // Block Lanczos (block_lanczos.h): the factor and M read once per block of vectors, not once
-      // per vector. For the 20 modes of the 1e5-dof link, blocks of 4 took 23 steps (92 vectors,
-      // 46 passes over the factor; ARPACK: 63 vectors, 126 passes), blocks of 6 and 8 19 and 16
-      // steps (doc/benchmarks.md). The basis may grow to 6 nev + 40 vectors (no restart); should
-      // that not be enough, ARPACK below takes over, restarting in less memory. Not where the
-      // caller asks for the least memory (a solid's 'modes', whose M is applied cell by cell,
-      // which a block does not make cheaper): there the larger basis cost 7 % of the peak
-      // (74k dofs: 722 against 675 MB) and no time.
-      const unsigned int block = 4;
+      const unsigned int block = 8;
       std::vector<double> upper, massed;
       auto standard_block = [&](const double *in, double *out, const unsigned int k) { // L^{-1} P M P^T L^{-T} in
         upper.resize(static_cast<std::size_t>(n_local) * k);
@@ -245,12 +248,19 @@ Modes lanczos(const MPI_Comm comm, const IndexSet &owned, const std::size_t n_gl
         factorization.solve_lower(massed.data(), out, k);
       };
       const std::size_t max_basis = std::min<std::size_t>(n_free, 6 * std::size_t(nev) + 40);
-      if (auto pairs = block_lanczos(standard_block, n_local, nev, block, max_basis, settings.tolerance))
+      try
         {
-          lambda = std::move(pairs->values);
-          z = std::move(pairs->vectors);
-          converged = nev;
-          iterations = pairs->block_steps;
+          if (auto pairs = block_lanczos(standard_block, n_local, nev, block, max_basis, settings.tolerance))
+            {
+              lambda = std::move(pairs->values);
+              z = std::move(pairs->vectors);
+              converged = nev;
+              iterations = pairs->block_steps;
+            }
+        }
+      catch (const std::bad_alloc &)
+        {
+          // The basis did not fit: ARPACK's restarted iteration needs less.
         }
     }
   if (converged == 0)
@@ -318,7 +328,7 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
     const Epetra_CrsMatrix &m = M.trilinos_matrix();
     const Epetra_MultiVector x(View, m.DomainMap(), const_cast<double *>(in), n_local, k);
     Epetra_MultiVector y(View, m.RangeMap(), out, n_local, k);
-    m.Multiply(false, x, y);
+    AssertThrow(m.Multiply(false, x, y) == 0, ExcMessage("Epetra multiply failed"));
   };
   return lanczos(comm, owned, K.m(), n_free, settings, shift, apply_mass, factorization);
 }
