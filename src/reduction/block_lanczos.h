@@ -82,6 +82,29 @@ inline void fill_start(double *v, const std::size_t n, const unsigned int seed)
   for (std::size_t i = 0; i < n; ++i) v[i] = 1.0 + 0.1 * std::sin(a * static_cast<double>(i) + phase) + 0.01 * std::cos(0.05 * i * (seed + 1));
 }
 
+/// W -= V (V^T W) for the @p k columns of W and the first @p m columns of V (n rows);
+/// @p C (m x k) receives V^T W.
+inline void project_out(const double *V, const std::size_t n, const std::size_t m, double *W, const unsigned int k,
+                        double *C)
+{
+  gemm('T', 'N', m, k, n, 1.0, V, n, W, n, 0.0, C, m);
+  gemm('N', 'N', n, k, m, -1.0, V, n, C, m, 1.0, W, n);
+}
+
+/// Column @p c of W less its components along W's columns 0 .. c-1 (orthonormal already).
+inline void project_out_earlier_columns(double *W, const std::size_t n, const unsigned int c)
+{
+  double *w = W + c * n;
+  for (unsigned int d = 0; d < c; ++d)
+    {
+      const double *u = W + d * n;
+      const double r = std::inner_product(u, u + n, w, 0.0);
+      for (std::size_t i = 0; i < n; ++i) w[i] -= r * u[i];
+    }
+}
+
+inline double norm(const double *w, const std::size_t n) { return std::sqrt(std::inner_product(w, w + n, w, 0.0)); }
+
 /// Makes the @p k columns of W orthonormal and orthogonal to the first @p m columns of V (both
 /// n rows): two passes of block classical Gram-Schmidt against V, each followed by modified
 /// Gram-Schmidt inside W. A column that loses all but 1e-10 of its size is replaced by a fresh
@@ -90,41 +113,26 @@ inline void orthonormalise(const double *V, const std::size_t n, const std::size
                            double *coefficients, unsigned int &seed)
 {
   std::vector<double> C(m * k), size_before(k);
-  for (unsigned int c = 0; c < k; ++c)
-    size_before[c] = std::sqrt(std::inner_product(W + c * n, W + (c + 1) * n, W + c * n, 0.0));
+  for (unsigned int c = 0; c < k; ++c) size_before[c] = norm(W + c * n, n);
   for (int pass = 0; pass < 2; ++pass)
     {
-      gemm('T', 'N', m, k, n, 1.0, V, n, W, n, 0.0, C.data(), m);
+      project_out(V, n, m, W, k, C.data());
       if (pass == 0 && coefficients) std::copy(C.begin(), C.end(), coefficients);
-      gemm('N', 'N', n, k, m, -1.0, V, n, C.data(), m, 1.0, W, n);
       for (unsigned int c = 0; c < k; ++c)
         {
           double *w = W + c * n;
-          for (unsigned int d = 0; d < c; ++d)
-            {
-              const double *u = W + d * n;
-              const double r = std::inner_product(u, u + n, w, 0.0);
-              for (std::size_t i = 0; i < n; ++i) w[i] -= r * u[i];
-            }
-          double size = std::sqrt(std::inner_product(w, w + n, w, 0.0));
+          project_out_earlier_columns(W, n, c);
+          double size = norm(w, n);
           if (!(size > 1e-10 * size_before[c]))
             {
               // Deflated: a fresh direction, made orthogonal to V and to W's earlier columns.
               fill_start(w, n, ++seed);
               for (int again = 0; again < 2; ++again)
                 {
-                  std::vector<double> c_fresh(m);
-                  gemm('T', 'N', m, 1, n, 1.0, V, n, w, n, 0.0, c_fresh.data(), m);
-                  gemm('N', 'N', n, 1, m, -1.0, V, n, c_fresh.data(), m, 1.0, w, n);
-                  for (unsigned int d = 0; d < c; ++d)
-                    {
-                      const double *u = W + d * n;
-                      const double r = std::inner_product(u, u + n, w, 0.0);
-                      for (std::size_t i = 0; i < n; ++i) w[i] -= r * u[i];
-                    }
+                  project_out(V, n, m, w, 1, C.data());
+                  project_out_earlier_columns(W, n, c);
                 }
-              size = std::sqrt(std::inner_product(w, w + n, w, 0.0));
-              size_before[c] = size;
+              size = norm(w, n);
             }
           for (std::size_t i = 0; i < n; ++i) w[i] /= size;
           size_before[c] = 1; // the second pass measures against the normalised column
@@ -192,11 +200,11 @@ inline std::optional<BlockEigenpairs> block_lanczos(const BlockOperator &A, cons
           const double *s_last = S.data() + index * m + first;
           double residual = 0;
           for (unsigned int r = 0; r < b; ++r)
-              {
-                double entry = 0;
-                for (unsigned int c = 0; c < b; ++c) entry += coupling[c * b + r] * s_last[c];
-                residual += entry * entry;
-              }
+            {
+              double entry = 0;
+              for (unsigned int c = 0; c < b; ++c) entry += coupling[c * b + r] * s_last[c];
+              residual += entry * entry;
+            }
           converged = std::sqrt(residual) <= tolerance * std::abs(theta[index]);
         }
       if (!converged && m + b > max_basis) return std::nullopt;

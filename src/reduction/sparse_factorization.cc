@@ -39,6 +39,27 @@ struct SparseFactorization::Cholmod
     cholmod_start(&common);
     common.print = 0; // a matrix that is not positive definite is reported by the caller, not on stderr
   }
+  /// X = S B for @p k columns (one after the other) with CHOLMOD's system @p system (S: L^{-1},
+  /// L^{-T} or A^{-1} of the factor), B's rows taken in the factor's order if @p permute_in
+  /// (row p of the factor's system is row order[p]), X's rows put back if @p permute_out.
+  void solve(const int system, const double *B, double *X, const unsigned int k, const bool permute_in,
+             const bool permute_out)
+  {
+    const std::size_t n = rhs->nrow;
+    auto row = [&](const std::size_t p) -> std::size_t { return order.empty() ? p : order[p]; };
+    cholmod_dense *many = k == 1 ? rhs : cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &common);
+    if (!many) throw std::bad_alloc();
+    auto *in = static_cast<double *>(many->x);
+    for (std::size_t c = 0; c < k; ++c)
+      for (std::size_t p = 0; p < n; ++p) in[c * n + p] = B[c * n + (permute_in ? row(p) : p)];
+    cholmod_dense *solution = cholmod_solve(system, factor, many, &common);
+    if (many != rhs) cholmod_free_dense(&many, &common);
+    if (!solution) throw std::bad_alloc();
+    const auto *out = static_cast<const double *>(solution->x);
+    for (std::size_t c = 0; c < k; ++c)
+      for (std::size_t p = 0; p < n; ++p) X[c * n + (permute_out ? row(p) : p)] = out[c * n + p];
+    cholmod_free_dense(&solution, &common);
+  }
   ~Cholmod()
   {
     if (factor) cholmod_free_factor(&factor, &common);
@@ -341,28 +362,12 @@ void SparseFactorization::solve_lower(const double *B, double *Y, const unsigned
 {
   // The factor is of P A P^T, analysed in CHOLMOD's natural order: CHOLMOD permutes only for
   // its systems P, Pt and A of a factor in another order, so P is applied here.
-  const std::size_t n = cholmod->rhs->nrow;
-  cholmod_dense *many = k == 1 ? cholmod->rhs : cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &cholmod->common);
-  auto *permuted = static_cast<double *>(many->x);
-  for (std::size_t c = 0; c < k; ++c)
-    for (std::size_t p = 0; p < n; ++p) permuted[c * n + p] = B[c * n + cholmod->order[p]];
-  cholmod_dense *solution = cholmod_solve(CHOLMOD_L, cholmod->factor, many, &cholmod->common);
-  std::copy_n(static_cast<const double *>(solution->x), n * k, Y);
-  cholmod_free_dense(&solution, &cholmod->common);
-  if (many != cholmod->rhs) cholmod_free_dense(&many, &cholmod->common);
+  cholmod->solve(CHOLMOD_L, B, Y, k, true, false);
 }
 
 void SparseFactorization::solve_upper(const double *Y, double *X, const unsigned int k) const
 {
-  const std::size_t n = cholmod->rhs->nrow;
-  cholmod_dense *many = k == 1 ? cholmod->rhs : cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &cholmod->common);
-  std::copy_n(Y, n * k, static_cast<double *>(many->x));
-  cholmod_dense *solution = cholmod_solve(CHOLMOD_Lt, cholmod->factor, many, &cholmod->common);
-  const auto *z = static_cast<const double *>(solution->x);
-  for (std::size_t c = 0; c < k; ++c)
-    for (std::size_t p = 0; p < n; ++p) X[c * n + cholmod->order[p]] = z[c * n + p];
-  cholmod_free_dense(&solution, &cholmod->common);
-  if (many != cholmod->rhs) cholmod_free_dense(&many, &cholmod->common);
+  cholmod->solve(CHOLMOD_Lt, Y, X, k, false, true);
 }
 
 void SparseFactorization::solve_many(const double *B, double *X, const unsigned int k) const
@@ -374,18 +379,6 @@ void SparseFactorization::solve_many(const double *B, double *X, const unsigned 
       return;
     }
   // (P A P^T)^{-1} applied to P b, then permuted back (P = I where CHOLMOD permutes itself).
-  const std::size_t n = cholmod->rhs->nrow;
-  const std::vector<int> &order = cholmod->order;
-  cholmod_dense *many = k == 1 ? cholmod->rhs : cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &cholmod->common);
-  auto *permuted = static_cast<double *>(many->x);
-  auto row = [&](const std::size_t p) -> std::size_t { return order.empty() ? p : order[p]; };
-  for (std::size_t c = 0; c < k; ++c)
-    for (std::size_t p = 0; p < n; ++p) permuted[c * n + p] = B[c * n + row(p)];
-  cholmod_dense *solution = cholmod_solve(CHOLMOD_A, cholmod->factor, many, &cholmod->common);
-  const auto *y = static_cast<const double *>(solution->x);
-  for (std::size_t c = 0; c < k; ++c)
-    for (std::size_t p = 0; p < n; ++p) X[c * n + row(p)] = y[c * n + p];
-  cholmod_free_dense(&solution, &cholmod->common);
-  if (many != cholmod->rhs) cholmod_free_dense(&many, &cholmod->common);
+  cholmod->solve(CHOLMOD_A, B, X, k, true, true);
 }
 } // namespace flextrack::reduction
