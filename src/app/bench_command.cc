@@ -252,14 +252,15 @@ int bench_command(const Options &options, const io::SceneFile &file)
       << "during that run\n";
   csv << "method,setting,value,status,max_relative_error";
   for (const auto &n : probe_names) csv << ",error_" << n << "_m";
-  csv << ",wall_time_s,steps,rejected_error_test,rejected_newton,residual_evaluations,jacobian_evaluations,peak_memory_MiB\n";
+  csv << ",wall_time_s,steps,rejected_error_test,rejected_newton,newton_restarts,residual_evaluations,jacobian_evaluations,peak_memory_MiB\n";
   for (const auto &r : rows)
     {
       csv << r.method << "," << r.setting << "," << io::csv_number(r.value) << "," << (r.failure.empty() ? "completed" : "failed")
           << "," << io::csv_number(r.max_relative);
       for (const double e : r.errors) csv << "," << io::csv_number(e);
       csv << "," << io::csv_number(r.wall) << "," << r.statistics.steps << "," << r.statistics.error_test_failures << ","
-          << r.statistics.nonlinear_convergence_failures << "," << r.statistics.residual_evaluations << ","
+          << r.statistics.nonlinear_convergence_failures << "," << r.statistics.newton_restarts << ","
+          << r.statistics.residual_evaluations << ","
           << r.statistics.jacobian_evaluations << "," << io::csv_number(r.peak_memory_mib) << "\n";
     }
   out.add_text("bench.csv", csv.str());

@@ -107,6 +107,7 @@ io::JsonObject statistics_json(const multibody::IntegratorStatistics &s, const m
   j.add("steps", static_cast<double>(s.steps))
     .add("rejected_steps_error_test", static_cast<double>(s.error_test_failures))
     .add("rejected_steps_nonlinear_convergence", static_cast<double>(s.nonlinear_convergence_failures))
+    .add("newton_restarts_with_new_jacobian", static_cast<double>(s.newton_restarts))
     .add("order_histogram_1_to_5", histogram)
     .add("nonlinear_iterations", static_cast<double>(s.nonlinear_iterations))
     .add("residual_evaluations", static_cast<double>(s.residual_evaluations))
@@ -402,7 +403,8 @@ int run_command(const Options &options, const io::SceneFile &file)
   const auto stats = integrator.statistics();
   std::cout << "  " << stats.steps << " steps (" << stats.error_test_failures << " rejected by the error test, "
             << stats.nonlinear_convergence_failures << " by Newton), " << stats.residual_evaluations << " residuals, "
-            << stats.jacobian_evaluations << " Jacobians\n  largest over the output rows: |Phi| " << std::setprecision(3)
+            << stats.jacobian_evaluations << " Jacobians (" << stats.newton_restarts
+            << " of them where Newton did not converge with an older one and solved the step again)\n  largest over the output rows: |Phi| " << std::setprecision(3)
             << recorder.max_position_residual << " m or rad (position tolerance " << position_yardstick
             << " m = atol + rtol x largest coordinate), |dPhi/dt| " << recorder.max_velocity_residual
             << " m/s or rad/s (velocity tolerance of the frames " << velocity_yardstick << "), ||p|-1| "

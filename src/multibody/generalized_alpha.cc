@@ -153,9 +153,13 @@ bool GeneralizedAlphaIntegrator::attempt_step(const double h)
             }
           previous = norm;
         }
-      ++stats.nonlinear_convergence_failures;
-      if (matrix_fresh) return false; // a fresh matrix did not help: the step is too large
-      matrix_c = -1;                  // retry once with a matrix at this step
+      if (matrix_fresh) // a fresh matrix did not help: the step is too large
+        {
+          ++stats.nonlinear_convergence_failures;
+          return false;
+        }
+      ++stats.newton_restarts;
+      matrix_c = -1; // retry once with a matrix at this step
     }
   return false;
 }

@@ -365,7 +365,13 @@ IntegratorStatistics IdaIntegrator::statistics() const
   IDAGetNumSteps(sun->ida, &s.steps);
   IDAGetNumErrTestFails(sun->ida, &s.error_test_failures);
   IDAGetNumNonlinSolvIters(sun->ida, &s.nonlinear_iterations);
-  IDAGetNumNonlinSolvConvFails(sun->ida, &s.nonlinear_convergence_failures);
+  // IDA counts every Newton convergence failure of its nonlinear solver, also those that only
+  // make it rebuild a stale Jacobian and solve the same step again; the steps that were cut are
+  // the step solve failures.
+  IDAGetNumStepSolveFails(sun->ida, &s.nonlinear_convergence_failures);
+  IDAGetNumNonlinSolvConvFails(sun->ida, &s.newton_restarts);
+  // (the solver's count includes the last failure of each cut step)
+  s.newton_restarts = std::max(0L, s.newton_restarts - s.nonlinear_convergence_failures);
   IDAGetNumResEvals(sun->ida, &s.residual_evaluations);
   IDAGetNumJacEvals(sun->ida, &s.jacobian_evaluations);
   IDAGetNumLinSolvSetups(sun->ida, &s.factorizations);
@@ -377,6 +383,7 @@ IntegratorStatistics IdaIntegrator::statistics() const
   s.error_test_failures += b.error_test_failures;
   s.nonlinear_iterations += b.nonlinear_iterations;
   s.nonlinear_convergence_failures += b.nonlinear_convergence_failures;
+  s.newton_restarts += b.newton_restarts;
   s.residual_evaluations += b.residual_evaluations;
   s.jacobian_evaluations += b.jacobian_evaluations;
   s.factorizations += b.factorizations;

@@ -11,12 +11,30 @@
 #include <Epetra_SerialComm.h>
 #include <Epetra_Vector.h>
 
+#include <klu.h>
+
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 
 namespace flextrack::multibody
 {
+struct JacobianSolver::Klu
+{
+  klu_common common;
+  klu_symbolic *symbolic = nullptr;
+  klu_numeric *numeric = nullptr;
+  /// Reciprocal condition estimate (KLU's min |u_ii| / max |u_ii|) of the last factorisation
+  /// with pivoting: a refactorisation far below it pivots afresh.
+  double pivoted_rcond = 0, pivoted_rgrowth = 0; ///< and its reciprocal pivot growth
+  Klu() { klu_defaults(&common); }
+  ~Klu()
+  {
+    if (numeric) klu_free_numeric(&numeric, &common);
+    if (symbolic) klu_free_symbolic(&symbolic, &common);
+  }
+};
+
 bool dense_factorisation_is_faster(const System &system)
 {
   double blocks = 0;
@@ -44,10 +62,16 @@ JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern, const 
   x_vec = std::make_unique<Epetra_Vector>(*map);
   b_vec = std::make_unique<Epetra_Vector>(*map);
   problem = std::make_unique<Epetra_LinearProblem>(A.get(), x_vec.get(), b_vec.get());
-  Amesos factory;
-  const char *kind = dense ? "Amesos_Lapack" : "Amesos_Klu";
-  lu.reset(factory.Create(kind, *problem));
-  if (!lu) throw std::runtime_error(std::string(kind) + " is not available in this Trilinos");
+  if (dense)
+    {
+      Amesos factory;
+      lu.reset(factory.Create("Amesos_Lapack", *problem));
+      if (!lu) throw std::runtime_error("Amesos_Lapack is not available in this Trilinos");
+    }
+  else
+    {
+      klu = std::make_unique<Klu>();
+    }
 }
 
 JacobianSolver::~JacobianSolver() = default;
@@ -71,8 +95,47 @@ void JacobianSolver::add(const unsigned int row, const unsigned int col, const d
   if (err != 0) throw std::logic_error("JacobianSolver: entry outside the pattern");
 }
 
+bool JacobianSolver::factorize_with_klu()
+{
+  int *row_start = nullptr, *columns = nullptr;
+  double *values = nullptr;
+  if (A->ExtractCrsDataPointers(row_start, columns, values) != 0)
+    throw std::logic_error("JacobianSolver: the matrix' storage is not contiguous");
+  const int n = map->NumMyElements();
+  klu_common *common = &klu->common;
+  if (!klu->symbolic)
+    {
+      klu->symbolic = klu_analyze(n, row_start, columns, common);
+      if (!klu->symbolic)
+        throw std::runtime_error("KLU could not order the Jacobian (status " + std::to_string(common->status) + ")");
+    }
+  ++count;
+  if (klu->numeric)
+    {
+      // The last pivot order, if its pivots are still good: a pivot ratio (KLU's rcond, min |u_ii|
+      // / max |u_ii|) or a reciprocal pivot growth (KLU's rgrowth, max |a| / max |u| per column)
+      // that fell by more than 1e3 against the last pivoted factorisation means the old pivots
+      // have become small or grow the factors, which then lose digits: pivot afresh.
+      if (klu_refactor(row_start, columns, values, klu->symbolic, klu->numeric, common) &&
+          klu_rcond(klu->symbolic, klu->numeric, common) && common->rcond > 1e-3 * klu->pivoted_rcond &&
+          klu_rgrowth(row_start, columns, values, klu->symbolic, klu->numeric, common) &&
+          common->rgrowth > 1e-3 * klu->pivoted_rgrowth)
+        return true;
+      klu_free_numeric(&klu->numeric, common);
+    }
+  klu->numeric = klu_factor(row_start, columns, values, klu->symbolic, common);
+  if (!klu->numeric) return false; // singular (KLU_SINGULAR), or out of memory
+  klu_rcond(klu->symbolic, klu->numeric, common);
+  klu_rgrowth(row_start, columns, values, klu->symbolic, klu->numeric, common);
+  klu->pivoted_rcond = common->rcond;
+  klu->pivoted_rgrowth = common->rgrowth;
+  ++pivoted;
+  return true;
+}
+
 bool JacobianSolver::factorize()
 {
+  if (klu) return factorize_with_klu();
   if (!symbolic_done)
     {
       if (lu->SymbolicFactorization() != 0) return false;
@@ -85,6 +148,14 @@ bool JacobianSolver::factorize()
 void JacobianSolver::solve(const double *b, double *x)
 {
   const int n = map->NumMyElements();
+  if (klu)
+    {
+      // KLU factorised the compressed rows of A as columns, i.e. A^T: A x = b is its transposed solve.
+      std::memcpy(x, b, n * sizeof(double));
+      if (!klu->numeric || !klu_tsolve(klu->symbolic, klu->numeric, n, 1, x, &klu->common))
+        throw std::runtime_error("KLU could not solve with the Jacobian (status " + std::to_string(klu->common.status) + ")");
+      return;
+    }
   std::memcpy(b_vec->Values(), b, n * sizeof(double));
   lu->Solve();
   std::memcpy(x, x_vec->Values(), n * sizeof(double));

@@ -1,9 +1,16 @@
 // The sparse Jacobian of the DAE and its direct solver: an Epetra_CrsMatrix on an
 // Epetra_SerialComm (serial, so `flextrack run` needs no MPI_Init) with a pattern fixed at
-// construction, factorised by Amesos KLU (sparse LU) or, for a system dominated by large dense
-// blocks, by Amesos' LAPACK dense LU (see dense_factorisation_is_faster). The symbolic
+// construction, factorised by SuiteSparse's KLU (sparse LU) or, for a system dominated by large
+// dense blocks, by Amesos' LAPACK dense LU (see dense_factorisation_is_faster). The symbolic
 // factorisation (ordering) is computed once, at the first factorisation, and reused: only the
 // values change between Newton setups.
+//
+// KLU is called directly on the matrix's own compressed rows (no copy): read as compressed
+// columns they are A^T, so a solve is KLU's transposed solve. A refactorisation reuses the last
+// pivot order (klu_refactor, no pivot search) and falls back to a factorisation with partial
+// pivoting when the pivots have become poor (see factorize()). Through Amesos, each
+// factorisation copied the matrix into Amesos' own arrays, searched pivots afresh, and each solve
+// read the clock twice for Amesos' timers: 7 % of a tight-tolerance laser robot run.
 #pragma once
 
 #include <memory>
@@ -46,6 +53,8 @@ public:
   bool factorize();
   void solve(const double *b, double *x);
   unsigned long n_factorizations() const { return count; }
+  /// Of those, the ones with a pivot search (KLU; the others reuse the last pivot order).
+  unsigned long n_pivoted_factorizations() const { return pivoted; }
 
 private:
   std::unique_ptr<Epetra_SerialComm> comm;
@@ -54,9 +63,12 @@ private:
   std::unique_ptr<Epetra_CrsMatrix> A;
   std::unique_ptr<Epetra_Vector> x_vec, b_vec;
   std::unique_ptr<Epetra_LinearProblem> problem;
-  std::unique_ptr<Amesos_BaseSolver> lu;
+  std::unique_ptr<Amesos_BaseSolver> lu;   ///< the dense path only
   bool symbolic_done = false;
-  unsigned long count = 0;
+  unsigned long count = 0, pivoted = 0;
+  struct Klu; ///< KLU's settings, ordering and factors (the sparse path; jacobian_solver.cc)
+  std::unique_ptr<Klu> klu;
+  bool factorize_with_klu();
   std::vector<int> index_buffer;
 };
 } // namespace flextrack::multibody

@@ -69,7 +69,12 @@ struct IntegratorSettings
 
 struct IntegratorStatistics
 {
-  long steps = 0, error_test_failures = 0, nonlinear_iterations = 0, nonlinear_convergence_failures = 0;
+  long steps = 0, error_test_failures = 0, nonlinear_iterations = 0;
+  /// Steps rejected because Newton did not converge with a Jacobian of that step (the step is cut).
+  long nonlinear_convergence_failures = 0;
+  /// Newton iterations that did not converge with a Jacobian of an earlier step, so the Jacobian
+  /// was rebuilt and the same step solved again: a cost of modified Newton, not a rejected step.
+  long newton_restarts = 0;
   long residual_evaluations = 0, jacobian_evaluations = 0, factorizations = 0;
   std::array<long, 6> order_histogram{}; ///< steps taken at order 1..5 (index = order)
   double last_step = 0;                  ///< [s]
