@@ -3,6 +3,8 @@
 #include <base/input_error.h>
 #include <multibody/generic_joint.h>
 
+#include <algorithm>
+
 namespace flextrack::multibody
 {
 using namespace dealii;
@@ -129,6 +131,27 @@ void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const dou
               break;
             }
         }
+    }
+}
+
+void GenericJoint::driver_rates(const std::vector<const double *> &q, const double *own_q, const double t,
+                                Vector<double> &phi_t) const
+{
+  const bool angle = std::any_of(rows.begin(), rows.end(), [](const Row &r) { return r.kind == RowKind::angle; });
+  if (angle)
+    {
+      // The angle row's Phi_t needs both markers' axes: evaluate the rows as a whole.
+      thread_local Local l;
+      thread_local Vector<double> phi;
+      evaluate_rows(q, own_q, t, l, phi, phi_t);
+      return;
+    }
+  phi_t.reinit(rows.size());
+  for (unsigned int r = 0; r < rows.size(); ++r)
+    {
+      const Row &row = rows[r];
+      if (row.kind == RowKind::translation && row.driven) phi_t[r] = -law->jet(t).derivative(1);
+      else if (row.kind == RowKind::own) phi_t[r] = -row.own_law->jet(t).derivative(1);
     }
 }
 

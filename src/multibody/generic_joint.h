@@ -44,6 +44,11 @@ public:
   void initial_own_coordinates(double *q, double *v) const override;
   std::vector<const Body *> bodies() const override { return {&markers[0]->body(), &markers[1]->body()}; }
   void evaluate(const std::vector<const double *> &q, const double *own_q, double t, JointEvaluation &e) const override;
+  /// Phi_t from the laws alone; the markers are evaluated only for a driven angle (whose Phi_t
+  /// depends on the axes). A track contact's marker (curve, section frame, mode fields at s) is
+  /// the costly one, and its driver, s = s(t), needs none of it.
+  void driver_rates(const std::vector<const double *> &q, const double *own_q, double t,
+                    dealii::Vector<double> &phi_t) const override;
   std::string equation_name(unsigned int k) const override { return rows[k].name; }
   bool is_driver_equation(unsigned int k) const override
   {

@@ -50,6 +50,15 @@ public:
   /// @p q: coordinates of each body of bodies() (nullptr for the ground).
   virtual void evaluate(const std::vector<const double *> &q, const double *own_q, double t,
                         JointEvaluation &e) const = 0;
+  /// Phi_t alone (all m equations; zero where not driven): what the power of the drivers'
+  /// reactions needs at every step (Monitors). The default evaluates everything.
+  virtual void driver_rates(const std::vector<const double *> &q, const double *own_q, double t,
+                            dealii::Vector<double> &phi_t) const
+  {
+    thread_local JointEvaluation e;
+    evaluate(q, own_q, t, e);
+    phi_t = e.phi_t;
+  }
   /// Short description of equation @p k, e.g. "translation along x of marker 2".
   virtual std::string equation_name(unsigned int k) const { return "equation " + std::to_string(k); }
   /// Is equation @p k rheonomic (a driver): its reaction does work.

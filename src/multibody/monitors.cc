@@ -27,7 +27,7 @@ Powers Monitors::powers(const double t, const Vector<double> &y) const
   // (rheonomic) equations have Phi_t != 0. Only joints with such an equation are evaluated:
   // this runs twice per step, and the whole constraint Jacobian it used to build (a dense
   // equations x velocities matrix) was 31 % of the instructions of a 16-link chain.
-  thread_local JointEvaluation e;
+  thread_local Vector<double> phi_t;
   const unsigned int l0 = system.n_q() + system.n_v();
   for (unsigned int j = 0; j < system.n_joints(); ++j)
     {
@@ -35,9 +35,9 @@ Powers Monitors::powers(const double t, const Vector<double> &y) const
       const std::vector<unsigned int> &active = system.active_equations(j);
       if (std::none_of(active.begin(), active.end(), [&](unsigned int k) { return joint.is_driver_equation(k); }))
         continue;
-      joint.evaluate(system.joint_q(j, y), system.own_q_of(j, y), t, e);
+      joint.driver_rates(system.joint_q(j, y), system.own_q_of(j, y), t, phi_t);
       for (unsigned int r = 0; r < active.size(); ++r)
-        p.drivers += y[l0 + system.multiplier_offset(j) + r] * e.phi_t[active[r]];
+        p.drivers += y[l0 + system.multiplier_offset(j) + r] * phi_t[active[r]];
     }
   return p;
 }

@@ -784,6 +784,59 @@ TEST(MultibodyTrack, reaction_of_a_bead_driven_round_a_circular_track_is_m_v2_ov
   EXPECT_LT(worst_torque, 1e-6 * m * g * R);
 }
 
+TEST(MultibodyTrack, driver_rates_are_the_time_derivative_of_the_constraints)
+{
+  // Joint::driver_rates (what the energy monitor's power of the drivers reads at every step) gives
+  // Phi_t of each driven equation without the markers where it can. Reference: the definition,
+  // Phi_t = dPhi/dt at fixed coordinates, by central differences of Phi (h = 1e-5 s: truncation
+  // h^2 Phi_ttt about 1e-10 for these laws), to 1e-8 of max(1, |Phi_t|); and equal to the
+  // Phi_t of the full evaluate() to 1e-14. Joints: a track contact driven along a circle
+  // (s = 0.2 + 1.5 t: Phi_t = -1.5 m/s, the markers not needed), a revolute driven at
+  // 1.875 t + 0.2 sin(3 t) (the angle row needs the axes), a prismatic driven at 0.1 sin(2 t),
+  // at coordinates moved off their consistent values.
+  const double R = 0.8, s0 = 0.2, p0 = s0 / R, v = 1.5;
+  System s(Vector3({0, 0, -9.81}));
+  const auto circle = helix(R, 0.0, 0.5);
+  const Vector3 r0({R * std::cos(p0), R * std::sin(p0), 0}), t0({-std::sin(p0), std::cos(p0), 0});
+  const Body &ball = add_rigid(s, "bead", 0.5, diagonal(1e-4, 1e-4, 1e-4), r0, {{1, 0, 0, 0}}, v * t0);
+  TrackSliding drive;
+  drive.drive = TrackDrive::motion;
+  drive.law = std::make_shared<geometry::Expression>("0.2 + 1.5*t", "t");
+  add_track_joint(s, "ring", ball, s.ground(), circle,
+                  frame_of(circle, geometry::SectionFrame::Kind::fixed_vector, Vector3({0, 0, 1})), nullptr, s0, v, bead, drive);
+  add_rigid(s, "bob", 0.5, diagonal(1e-4, 1e-4, 1e-4), r0);
+  add_joint(s, "revolute", "pivot", "bob", "ground", Vector3(), Vector3({0, 0, 1}), "1.875*t + 0.2*sin(3*t)");
+  add_rigid(s, "slider", 1.0, diagonal(1e-3, 1e-3, 1e-3), Vector3({0, -1, 0}));
+  add_joint(s, "prismatic", "guide", "slider", "ground", Vector3({0, -1, 0}), Vector3({1, 0, 0}), "0.1*sin(2*t)");
+  s.finalize();
+  Vector<double> y;
+  s.initial_guess(y);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> noise(-0.05, 0.05);
+  for (unsigned int i = 0; i < s.n_q(); ++i) y[i] += noise(random);
+  const double t = 0.37, h = 1e-5;
+  unsigned int driven_rows = 0;
+  for (unsigned int j = 0; j < s.n_joints(); ++j)
+    {
+      const Joint &joint = s.joint(j);
+      Vector<double> rates;
+      joint.driver_rates(s.joint_q(j, y), s.own_q_of(j, y), t, rates);
+      JointEvaluation at, plus, minus;
+      joint.evaluate(s.joint_q(j, y), s.own_q_of(j, y), t, at);
+      joint.evaluate(s.joint_q(j, y), s.own_q_of(j, y), t + h, plus);
+      joint.evaluate(s.joint_q(j, y), s.own_q_of(j, y), t - h, minus);
+      ASSERT_EQ(rates.size(), at.phi_t.size()) << joint.name();
+      for (unsigned int r = 0; r < rates.size(); ++r)
+        {
+          const double difference = (plus.phi[r] - minus.phi[r]) / (2 * h);
+          EXPECT_NEAR(rates[r], difference, 1e-8 * std::max(1.0, std::abs(difference))) << joint.name() << " row " << r;
+          EXPECT_NEAR(rates[r], at.phi_t[r], 1e-14 * std::max(1.0, std::abs(at.phi_t[r]))) << joint.name() << " row " << r;
+          if (joint.is_driver_equation(r)) ++driven_rows;
+        }
+    }
+  EXPECT_EQ(driven_rows, 3u); // one per joint
+}
+
 TEST(MultibodyTrack, reaction_of_a_double_arm_sleeve_in_results_matches_the_closed_form)
 {
   // A double-arm sleeve: a vertical rigid rod on the ground (arm I, z from 0 to 2 m) and a
