@@ -145,12 +145,36 @@ struct IdaCallbacks
   static int ls_setup(SUNLinearSolver ls, SUNMatrix)
   {
     auto *self = static_cast<IdaIntegrator *>(ls->content);
-    return self->system.factorize() ? SUNLS_SUCCESS : SUNLS_LUFACT_FAIL;
+    // The first setup after a Newton convergence failure searches pivots afresh: a refactorisation
+    // with the last pivot order may be what failed (jacobian_solver.h). IDA adds its solver's
+    // failures to this count when the nonlinear solve returns, so the setup that follows a cut
+    // step sees them.
+    long fails = 0;
+    IDAGetNumNonlinSolvConvFails(self->sun->ida, &fails);
+    const bool fresh_pivots = fails != self->newton_failures_at_setup;
+    self->newton_failures_at_setup = fails;
+    try
+      {
+        return self->system.factorize(fresh_pivots) ? SUNLS_SUCCESS : SUNLS_LUFACT_FAIL;
+      }
+    catch (const std::exception &e) // not through SUNDIALS' C code
+      {
+        self->last_message = e.what();
+        return SUNLS_PACKAGE_FAIL_UNREC;
+      }
   }
   static int ls_solve(SUNLinearSolver ls, SUNMatrix, N_Vector x, N_Vector b, realtype)
   {
     auto *self = static_cast<IdaIntegrator *>(ls->content);
-    self->system.solve(N_VGetArrayPointer(b), N_VGetArrayPointer(x));
+    try
+      {
+        self->system.solve(N_VGetArrayPointer(b), N_VGetArrayPointer(x));
+      }
+    catch (const std::exception &e)
+      {
+        self->last_message = e.what();
+        return SUNLS_PACKAGE_FAIL_UNREC;
+      }
     for (sunindextype i = 0; i < N_VGetLength(x); ++i)
       if (!std::isfinite(N_VGetArrayPointer(x)[i])) return SUNLS_PACKAGE_FAIL_REC;
     return SUNLS_SUCCESS;

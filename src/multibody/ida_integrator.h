@@ -58,6 +58,7 @@ private:
   double t_now = 0;
   double smallest_step = 0; ///< IDA's hmin in integrate() [s]: 1e-12 of the run
   mutable std::string last_message;
+  long newton_failures_at_setup = 0; ///< IDA's count at the last factorisation (IdaCallbacks::ls_setup)
 
   friend struct IdaCallbacks;
 };

@@ -95,7 +95,7 @@ void JacobianSolver::add(const unsigned int row, const unsigned int col, const d
   if (err != 0) throw std::logic_error("JacobianSolver: entry outside the pattern");
 }
 
-bool JacobianSolver::factorize_with_klu()
+bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
 {
   int *row_start = nullptr, *columns = nullptr;
   double *values = nullptr;
@@ -110,7 +110,7 @@ bool JacobianSolver::factorize_with_klu()
         throw std::runtime_error("KLU could not order the Jacobian (status " + std::to_string(common->status) + ")");
     }
   ++count;
-  if (klu->numeric)
+  if (klu->numeric && !fresh_pivots)
     {
       // The last pivot order, if its pivots are still good: a pivot ratio (KLU's rcond, min |u_ii|
       // / max |u_ii|) or a reciprocal pivot growth (KLU's rgrowth, max |a| / max |u| per column)
@@ -123,6 +123,7 @@ bool JacobianSolver::factorize_with_klu()
         return true;
       klu_free_numeric(&klu->numeric, common);
     }
+  if (klu->numeric) klu_free_numeric(&klu->numeric, common);
   klu->numeric = klu_factor(row_start, columns, values, klu->symbolic, common);
   if (!klu->numeric) return false; // singular (KLU_SINGULAR), or out of memory
   klu_rcond(klu->symbolic, klu->numeric, common);
@@ -133,9 +134,9 @@ bool JacobianSolver::factorize_with_klu()
   return true;
 }
 
-bool JacobianSolver::factorize()
+bool JacobianSolver::factorize(const bool fresh_pivots)
 {
-  if (klu) return factorize_with_klu();
+  if (klu) return factorize_with_klu(fresh_pivots);
   if (!symbolic_done)
     {
       if (lu->SymbolicFactorization() != 0) return false;
@@ -151,7 +152,7 @@ void JacobianSolver::solve(const double *b, double *x)
   if (klu)
     {
       // KLU factorised the compressed rows of A as columns, i.e. A^T: A x = b is its transposed solve.
-      std::memcpy(x, b, n * sizeof(double));
+      if (x != b) std::memcpy(x, b, n * sizeof(double)); // System::solve allows x == b
       if (!klu->numeric || !klu_tsolve(klu->symbolic, klu->numeric, n, 1, x, &klu->common))
         throw std::runtime_error("KLU could not solve with the Jacobian (status " + std::to_string(klu->common.status) + ")");
       return;

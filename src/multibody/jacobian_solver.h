@@ -49,8 +49,9 @@ public:
   void add(const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols, const double *block);
   void add(unsigned int row, unsigned int col, double value);
   const Epetra_CrsMatrix &matrix() const { return *A; }
-  /// false if the factorisation finds the matrix singular.
-  bool factorize();
+  /// false if the factorisation finds the matrix singular. @p fresh_pivots: KLU searches pivots
+  /// afresh instead of reusing the last order (after a Newton failure: the old order may be why).
+  bool factorize(bool fresh_pivots = false);
   void solve(const double *b, double *x);
   unsigned long n_factorizations() const { return count; }
   /// Of those, the ones with a pivot search (KLU; the others reuse the last pivot order).
@@ -68,7 +69,7 @@ private:
   unsigned long count = 0, pivoted = 0;
   struct Klu; ///< KLU's settings, ordering and factors (the sparse path; jacobian_solver.cc)
   std::unique_ptr<Klu> klu;
-  bool factorize_with_klu();
+  bool factorize_with_klu(bool fresh_pivots);
   std::vector<int> index_buffer;
 };
 } // namespace flextrack::multibody

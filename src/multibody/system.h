@@ -118,7 +118,8 @@ public:
   void assemble_jacobian(double t, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
   const Epetra_CrsMatrix &jacobian() const;
   /// KLU factorisation of jacobian(); false if it is singular.
-  bool factorize();
+  /// @p fresh_pivots: search pivots afresh (KLU), not reuse the last order (jacobian_solver.h).
+  bool factorize(bool fresh_pivots = false);
   /// x = J^{-1} b (after factorize()); x and b may alias.
   void solve(const double *b, double *x);
   unsigned long n_jacobian_evaluations() const { return jacobian_count; }

@@ -193,10 +193,10 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
   for (unsigned int f = 0; f < forces.size(); ++f) element_differences(force_element, f, t, y, yp);
 }
 
-bool System::factorize()
+bool System::factorize(const bool fresh_pivots)
 {
   Assert(solver, ExcMessage("assemble_jacobian() first"));
-  return solver->factorize();
+  return solver->factorize(fresh_pivots);
 }
 
 void System::solve(const double *b, double *x)

@@ -118,7 +118,7 @@ def check(exe, scene, work):
     # at least 0.7. Why 300: from rtol 1e-8 on, round-off alone moves the error by up to 40 times
     # (it changes the step sequence): five variants of the same method (Amesos' KLU; SuiteSparse's
     # KLU with and without reused pivots, with and without a step of iterative refinement),
-    # 2026-12-02, gave 21 to 123 x rtol at 1e-8 and 59 to 138 x rtol at 1e-10 (16 x at 1e-4).
+    # 2026-12-02, gave 3 to 123 x rtol at 1e-8 and 59 to 138 x rtol at 1e-10 (16 x at 1e-4).
     # The bound was 100 x until then (36 x at 1e-10 measured on 2026-12-01).
     ks, errors = (4, 6, 8, 10), []
     for k in ks:
