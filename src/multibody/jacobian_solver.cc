@@ -59,11 +59,11 @@ JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern, const 
   graph->FillComplete();
   graph->OptimizeStorage();
   A = std::make_unique<Epetra_CrsMatrix>(Copy, *graph);
-  x_vec = std::make_unique<Epetra_Vector>(*map);
-  b_vec = std::make_unique<Epetra_Vector>(*map);
-  problem = std::make_unique<Epetra_LinearProblem>(A.get(), x_vec.get(), b_vec.get());
   if (dense)
     {
+      x_vec = std::make_unique<Epetra_Vector>(*map);
+      b_vec = std::make_unique<Epetra_Vector>(*map);
+      problem = std::make_unique<Epetra_LinearProblem>(A.get(), x_vec.get(), b_vec.get());
       Amesos factory;
       lu.reset(factory.Create("Amesos_Lapack", *problem));
       if (!lu) throw std::runtime_error("Amesos_Lapack is not available in this Trilinos");
@@ -121,7 +121,6 @@ bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
           klu_rgrowth(row_start, columns, values, klu->symbolic, klu->numeric, common) &&
           common->rgrowth > 1e-3 * klu->pivoted_rgrowth)
         return true;
-      klu_free_numeric(&klu->numeric, common);
     }
   if (klu->numeric) klu_free_numeric(&klu->numeric, common);
   klu->numeric = klu_factor(row_start, columns, values, klu->symbolic, common);
@@ -130,7 +129,6 @@ bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
   klu_rgrowth(row_start, columns, values, klu->symbolic, klu->numeric, common);
   klu->pivoted_rcond = common->rcond;
   klu->pivoted_rgrowth = common->rgrowth;
-  ++pivoted;
   return true;
 }
 

@@ -54,19 +54,18 @@ public:
   bool factorize(bool fresh_pivots = false);
   void solve(const double *b, double *x);
   unsigned long n_factorizations() const { return count; }
-  /// Of those, the ones with a pivot search (KLU; the others reuse the last pivot order).
-  unsigned long n_pivoted_factorizations() const { return pivoted; }
 
 private:
   std::unique_ptr<Epetra_SerialComm> comm;
   std::unique_ptr<Epetra_Map> map;
   std::unique_ptr<Epetra_CrsGraph> graph;
   std::unique_ptr<Epetra_CrsMatrix> A;
+  // The dense path only (Amesos' LAPACK LU on the problem A x = b):
   std::unique_ptr<Epetra_Vector> x_vec, b_vec;
   std::unique_ptr<Epetra_LinearProblem> problem;
-  std::unique_ptr<Amesos_BaseSolver> lu;   ///< the dense path only
+  std::unique_ptr<Amesos_BaseSolver> lu;
   bool symbolic_done = false;
-  unsigned long count = 0, pivoted = 0;
+  unsigned long count = 0;
   struct Klu; ///< KLU's settings, ordering and factors (the sparse path; jacobian_solver.cc)
   std::unique_ptr<Klu> klu;
   bool factorize_with_klu(bool fresh_pivots);
