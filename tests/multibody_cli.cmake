@@ -39,6 +39,8 @@ flextrack_multibody_check(run_end_stop_on_flexible_arm_with_generalized_alpha en
                           ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_end_stops.prm)
 flextrack_multibody_check(run_passage_timed_to_the_end_time_completes passage_ends_at_end_time
                           ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_on_arc.prm)
+flextrack_multibody_check(run_energy_balance_of_a_run_starting_at_rest run_energy_balance_starting_at_rest
+                          ${CMAKE_SOURCE_DIR}/prm/bench/slewing_beam.prm)
 flextrack_multibody_check(run_energy_balance_stays_small_at_turning_points energy_balance_at_turning_points
                           ${CMAKE_SOURCE_DIR}/prm/pendulum.prm)
 flextrack_multibody_check(run_parameters_used_reruns_from_another_folder parameters_used_reruns

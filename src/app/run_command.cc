@@ -346,7 +346,7 @@ int run_command(const Options &options, const io::SceneFile &file)
       .add("velocity_residual", recorder.max_velocity_residual)
       .add("velocity_residual_yardstick", velocity_yardstick)
       .add("euler_parameter_normalisation", recorder.max_normalisation_drift)
-      .add("relative_energy_balance_error", recorder.max_balance_error);
+      .add("relative_energy_balance_error", balance.largest_relative_to_run_scale());
     io::JsonObject summary;
     summary.add("program", "flextrack " FLEXTRACK_VERSION)
       .add("command", "run")
@@ -408,8 +408,8 @@ int run_command(const Options &options, const io::SceneFile &file)
             << recorder.max_position_residual << " m or rad (position tolerance " << position_yardstick
             << " m = atol + rtol x largest coordinate), |dPhi/dt| " << recorder.max_velocity_residual
             << " m/s or rad/s (velocity tolerance of the frames " << velocity_yardstick << "), ||p|-1| "
-            << recorder.max_normalisation_drift << ", energy balance error " << recorder.max_balance_error
-            << " of the energy scale (largest |kinetic| or |potential| energy so far)\n";
+            << recorder.max_normalisation_drift << ", energy balance error " << balance.largest_relative_to_run_scale()
+            << " of the run's energy scale (its largest |kinetic| or |potential| energy or |work|)\n";
   print_step_limiters(stats, system);
   print_timings(clock);
   const std::string rows_kept = ". The " + std::to_string(recorder.n_rows()) + " output rows up to t = " +

@@ -22,8 +22,8 @@ Vec3 derivative(const Jet3 &y, const int k)
 } // namespace
 
 Curve::Curve(std::string description, CurveFunction y, const double p_begin, const double p_end,
-             const bool parameter_is_arc_length, std::vector<double> breakpoints)
-  : name(std::move(description)), function(std::move(y)), p0(p_begin), p1(p_end),
+             const bool parameter_is_arc_length, std::vector<double> breakpoints, CurveVelocity dy_dp)
+  : name(std::move(description)), function(std::move(y)), velocity(std::move(dy_dp)), p0(p_begin), p1(p_end),
     arc_length_parameter(parameter_is_arc_length)
 {
   if (!(p1 > p0) || !std::isfinite(p1 - p0))
@@ -38,6 +38,7 @@ Curve::Curve(std::string description, CurveFunction y, const double p_begin, con
 
 double Curve::speed(const double p) const
 {
+  if (velocity) return velocity(p).norm();
   const Jet3 y = function(Jet::variable(p));
   return coefficient(y, 1).norm();
 }

@@ -43,6 +43,10 @@ public:
 
 /// The curve's position as jets in its own parameter: y(parameter) with derivatives.
 using CurveFunction = std::function<Jet3(const Jet &parameter)>;
+/// dy/dp at a parameter value: optional, a cheaper way to the speed |y'(p)| that the arc-length
+/// quadrature of a type I curve evaluates thousands of times (it must equal the first
+/// derivative of the CurveFunction; without it, that derivative is taken from the jets).
+using CurveVelocity = std::function<Vec3(double parameter)>;
 
 /// Differential geometry of the centre line at one arc length s.
 struct CurveGeometry
@@ -65,9 +69,9 @@ public:
   /// @p y: the curve on jets of its parameter p in [p_begin, p_end]. When
   /// @p parameter_is_arc_length is false (type I), arc length is computed numerically.
   /// @p breakpoints: parameter values where higher derivatives jump (spline knots).
-  /// Throws CurveError (see above).
+  /// @p velocity: dy/dp, see CurveVelocity. Throws CurveError (see above).
   Curve(std::string description, CurveFunction y, double p_begin, double p_end,
-        bool parameter_is_arc_length, std::vector<double> breakpoints = {});
+        bool parameter_is_arc_length, std::vector<double> breakpoints = {}, CurveVelocity velocity = {});
 
   double length() const { return total_length; }
   /// True if the end point coincides with the start point (a ring).
@@ -91,6 +95,7 @@ private:
 
   std::string name;
   CurveFunction function;
+  CurveVelocity velocity;
   double p0, p1;
   bool arc_length_parameter;
   // Type I table: panel ends p_table[i] with arc lengths s_table[i].

@@ -421,9 +421,15 @@ std::shared_ptr<const Curve> create_from_expressions(ParameterHandler &prm, cons
   auto y = [xyz](const Jet &p) {
     Jet3 r;
     for (int d = 0; d < 3; ++d) r[d] = xyz[d].jet(p.c[0]);
-    // jet(p) is a jet in p itself; compose with the incoming jet for general arguments.
-    for (int d = 0; d < 3; ++d) r[d] = compose(r[d], p);
+    // jet(p) is a jet in p itself; compose with the incoming jet for general arguments (the
+    // plain variable, the usual argument, leaves it as it is).
+    if (!p.is_variable())
+      for (int d = 0; d < 3; ++d) r[d] = compose(r[d], p);
     return r;
+  };
+  // The speed of a parametric curve needs dy/dp only: first-order jets (taylor.h).
+  auto velocity = [xyz](const double p) {
+    return Vec3({xyz[0].dual(p).c[1], xyz[1].dual(p).c[1], xyz[2].dual(p).c[1]});
   };
   CurveEntries entries{path, {}, ""};
   for (int d = 0; d < 3; ++d) entries.coordinate[d] = path + "/" + "xyz"[d] + "(" + variable + ")";
@@ -455,7 +461,7 @@ std::shared_ptr<const Curve> create_from_expressions(ParameterHandler &prm, cons
   auto excerpt = [](const Expression &e) { return base::printable_excerpt(e.text(), 40); };
   return checked(make_curve(path, std::string(arc_length ? "arc-length" : "parametric") + " curve (" + excerpt(xyz[0]) +
                               ", " + excerpt(xyz[1]) + ", " + excerpt(xyz[2]) + ")",
-                            y, begin, end, arc_length),
+                            y, begin, end, arc_length, std::vector<double>{}, velocity),
                  entries);
 }
 

@@ -12,10 +12,16 @@ namespace flextrack::geometry
 {
 namespace
 {
-/// Every function with its number of arguments.
-const std::map<std::string, int> known_functions = {
-  {"sin", 1},  {"cos", 1},  {"tan", 1},  {"exp", 1}, {"log", 1}, {"sqrt", 1}, {"sinh", 1},       {"cosh", 1},
-  {"tanh", 1}, {"atan", 1}, {"abs", 1},  {"min", 2}, {"max", 2}, {"if", 3},   {"step", 1}, {"smoothstep", 1}};
+struct KnownFunction
+{
+  int arguments;
+  int id; ///< Expression::Function, as a number (the enum is private to Expression)
+};
+/// Every function with its number of arguments, in the order of Expression::Function (from 1).
+const std::map<std::string, KnownFunction> known_functions = {
+  {"sin", {1, 1}},   {"cos", {1, 2}},  {"tan", {1, 3}},  {"sinh", {1, 4}}, {"cosh", {1, 5}},  {"tanh", {1, 6}},
+  {"exp", {1, 7}},   {"log", {1, 8}},  {"sqrt", {1, 9}}, {"atan", {1, 10}}, {"abs", {1, 11}}, {"min", {2, 12}},
+  {"max", {2, 13}},  {"if", {3, 14}},  {"step", {1, 15}}, {"smoothstep", {1, 16}}};
 std::string function_list()
 {
   std::string s;
@@ -189,24 +195,24 @@ int Expression::parse_primary()
           ++pos;
           const Level level(*this);
           int arguments[3] = {-1, -1, -1};
-          for (int k = 0; k < known->second; ++k)
+          for (int k = 0; k < known->second.arguments; ++k)
             {
               if (k > 0)
                 {
                   skip_blanks();
                   if (pos >= source.size() || source[pos] != ',')
                     fail("',' and argument " + std::to_string(k + 1) + " of " + name + " (it takes " +
-                         std::to_string(known->second) + ")");
+                         std::to_string(known->second.arguments) + ")");
                   ++pos;
                 }
               arguments[k] = parse_comparison();
             }
           skip_blanks();
           if (pos >= source.size() || source[pos] != ')')
-            fail("')' after the " + std::string(known->second == 1 ? "argument" : "arguments") + " of " + name +
-                 " (it takes " + std::to_string(known->second) + ")");
+            fail("')' after the " + std::string(known->second.arguments == 1 ? "argument" : "arguments") + " of " + name +
+                 " (it takes " + std::to_string(known->second.arguments) + ")");
           ++pos;
-          Node call{Op::func, 0, arguments[0], arguments[1], name};
+          Node call{Op::func, 0, arguments[0], arguments[1], static_cast<Function>(known->second.id)};
           call.c = arguments[2];
           return add(call);
         }
@@ -221,14 +227,15 @@ int Expression::parse_primary()
   fail("a number, a name or '(' (found '" + base::printable_excerpt(std::string(1, c)) + "')");
 }
 
-Jet Expression::evaluate(const Jet &x) const
+template <int N>
+TaylorJet<N> Expression::evaluate(const TaylorJet<N> &x) const
 {
   // Operands precede their operation in `nodes` (a node is added after its operands are
   // parsed), so one pass in index order evaluates the tree without recursion.
   constexpr std::size_t on_stack = 32;
-  std::array<Jet, on_stack> small;
-  std::vector<Jet> large;
-  Jet *values = small.data();
+  std::array<TaylorJet<N>, on_stack> small;
+  std::vector<TaylorJet<N>> large;
+  TaylorJet<N> *values = small.data();
   if (nodes.size() > on_stack)
     {
       large.resize(nodes.size());
@@ -238,64 +245,67 @@ Jet Expression::evaluate(const Jet &x) const
   return values[root];
 }
 
-Jet Expression::evaluate_node(const Node &n, const Jet *values, const Jet &x) const
+template <int N>
+TaylorJet<N> Expression::evaluate_node(const Node &n, const TaylorJet<N> *values, const TaylorJet<N> &x) const
 {
   switch (n.op)
     {
-      case Op::constant: return Jet::constant(n.value);
+      case Op::constant: return TaylorJet<N>::constant(n.value);
       case Op::variable: return x;
       case Op::add: return values[n.a] + values[n.b];
       case Op::sub: return values[n.a] - values[n.b];
       case Op::mul: return values[n.a] * values[n.b];
       case Op::div: return values[n.a] / values[n.b];
       case Op::neg: return -values[n.a];
-      case Op::less: return Jet::constant(values[n.a].c[0] < values[n.b].c[0] ? 1 : 0);
-      case Op::greater: return Jet::constant(values[n.a].c[0] > values[n.b].c[0] ? 1 : 0);
-      case Op::less_equal: return Jet::constant(values[n.a].c[0] <= values[n.b].c[0] ? 1 : 0);
-      case Op::greater_equal: return Jet::constant(values[n.a].c[0] >= values[n.b].c[0] ? 1 : 0);
+      case Op::less: return TaylorJet<N>::constant(values[n.a].c[0] < values[n.b].c[0] ? 1 : 0);
+      case Op::greater: return TaylorJet<N>::constant(values[n.a].c[0] > values[n.b].c[0] ? 1 : 0);
+      case Op::less_equal: return TaylorJet<N>::constant(values[n.a].c[0] <= values[n.b].c[0] ? 1 : 0);
+      case Op::greater_equal: return TaylorJet<N>::constant(values[n.a].c[0] >= values[n.b].c[0] ? 1 : 0);
       case Op::pow:
         {
-          const Jet &base = values[n.a], &exponent = values[n.b];
+          const TaylorJet<N> &base = values[n.a], &exponent = values[n.b];
           bool constant_exponent = true;
-          for (int k = 1; k <= jet_order; ++k) constant_exponent &= exponent.c[k] == 0.0;
+          for (int k = 1; k <= N; ++k) constant_exponent &= exponent.c[k] == 0.0;
           return constant_exponent ? pow(base, exponent.c[0]) : exp(exponent * log(base));
         }
       case Op::func:
         {
-          const Jet &a = values[n.a];
-          const std::string &f = n.function;
-          Jet s, c;
-          if (f == "sin" || f == "cos" || f == "tan")
+          const TaylorJet<N> &a = values[n.a];
+          TaylorJet<N> s, c;
+          switch (n.function)
             {
-              sin_cos(a, s, c);
-              return f == "sin" ? s : f == "cos" ? c : s / c;
-            }
-          if (f == "sinh" || f == "cosh" || f == "tanh")
-            {
-              sin_cos(a, s, c, true);
-              return f == "sinh" ? s : f == "cosh" ? c : s / c;
-            }
-          if (f == "exp") return exp(a);
-          if (f == "log") return log(a);
-          if (f == "sqrt") return sqrt(a);
-          if (f == "atan") return atan(a);
-          if (f == "abs") return a.c[0] < 0 ? -a : a;
-          if (f == "min") return values[n.b].c[0] < a.c[0] ? values[n.b] : a;
-          if (f == "max") return values[n.b].c[0] > a.c[0] ? values[n.b] : a;
-          if (f == "if") return a.c[0] != 0 ? values[n.b] : values[n.c];
-          if (f == "step") return Jet::constant(a.c[0] >= 0 ? 1 : 0);
-          if (f == "smoothstep")
-            {
-              if (a.c[0] <= 0) return Jet::constant(0);
-              if (a.c[0] >= 1) return Jet::constant(1);
-              // 10 a^3 - 15 a^4 + 6 a^5 = a^3 (10 + a (-15 + 6 a))
-              const Jet inner = Jet::constant(10) + a * (Jet::constant(-15) + 6.0 * a);
-              return a * a * a * inner;
+              case Function::sin: sin_cos(a, s, c); return s;
+              case Function::cos: sin_cos(a, s, c); return c;
+              case Function::tan: sin_cos(a, s, c); return s / c;
+              case Function::sinh: sin_cos(a, s, c, true); return s;
+              case Function::cosh: sin_cos(a, s, c, true); return c;
+              case Function::tanh: sin_cos(a, s, c, true); return s / c;
+              case Function::exp: return exp(a);
+              case Function::log: return log(a);
+              case Function::sqrt: return sqrt(a);
+              case Function::atan: return atan(a);
+              case Function::abs: return a.c[0] < 0 ? -a : a;
+              case Function::min: return values[n.b].c[0] < a.c[0] ? values[n.b] : a;
+              case Function::max: return values[n.b].c[0] > a.c[0] ? values[n.b] : a;
+              case Function::if_: return a.c[0] != 0 ? values[n.b] : values[n.c];
+              case Function::step: return TaylorJet<N>::constant(a.c[0] >= 0 ? 1 : 0);
+              case Function::smoothstep:
+                {
+                  if (a.c[0] <= 0) return TaylorJet<N>::constant(0);
+                  if (a.c[0] >= 1) return TaylorJet<N>::constant(1);
+                  // 10 a^3 - 15 a^4 + 6 a^5 = a^3 (10 + a (-15 + 6 a))
+                  const TaylorJet<N> inner = TaylorJet<N>::constant(10) + a * (TaylorJet<N>::constant(-15) + 6.0 * a);
+                  return a * a * a * inner;
+                }
+              case Function::none: break;
             }
         }
     }
-  return Jet(); // unreachable: the parser only creates known nodes
+  return TaylorJet<N>(); // unreachable: the parser only creates known nodes
 }
+
+template Jet Expression::evaluate(const Jet &) const;
+template Dual Expression::evaluate(const Dual &) const;
 
 std::map<std::string, double> parse_constants(const std::string &text)
 {

@@ -50,25 +50,32 @@ public:
   Expression(const std::string &text, const std::string &variable,
              const std::map<std::string, double> &constants = {});
 
-  double value(const double x) const { return evaluate(Jet::constant(x)).value(); }
+  double value(const double x) const { return evaluate(Dual::constant(x)).value(); }
   /// Value and first four derivatives at x.
   Jet jet(const double x) const { return evaluate(Jet::variable(x)); }
+  /// Value and first derivative at x: bit for bit the first two coefficients of jet(x), at a
+  /// fraction of its cost (taylor.h).
+  Dual dual(const double x) const { return evaluate(Dual::variable(x)); }
   const std::string &text() const { return source; }
 
 private:
   enum class Op { constant, variable, add, sub, mul, div, pow, neg, func, less, greater, less_equal, greater_equal };
+  /// The functions, resolved from their names once, when parsed.
+  enum class Function { none, sin, cos, tan, sinh, cosh, tanh, exp, log, sqrt, atan, abs, min, max, if_, step, smoothstep };
   struct Node
   {
     Op op;
     double value = 0;   // for constants
     int a = -1, b = -1; // operand node indices
-    std::string function;
+    Function function = Function::none;
     int c = -1;         // third operand (if)
   };
 
-  Jet evaluate(const Jet &x) const;
+  template <int N>
+  TaylorJet<N> evaluate(const TaylorJet<N> &x) const;
   /// Node @p n given the values of all nodes before it (its operands among them).
-  Jet evaluate_node(const Node &n, const Jet *values, const Jet &x) const;
+  template <int N>
+  TaylorJet<N> evaluate_node(const Node &n, const TaylorJet<N> *values, const TaylorJet<N> &x) const;
 
   // Recursive-descent parser over `source`, position `pos`.
   int parse_comparison();

@@ -5,6 +5,13 @@
 // written as an expression in its parameter yields its first four derivatives to rounding
 // error. Four derivatives are what the exact curvature, torsion and their arc-length
 // derivatives need (torsion' involves y'''').
+//
+// The order is a template parameter: a drive law needs its value and first derivative, and a
+// curve's speed |y'(p)| (the arc-length quadrature's integrand, ten evaluations per Gauss rule)
+// its first derivative only. Every operation computes coefficient k from coefficients 0..k alone,
+// in the same order whatever the truncation, so a lower-order jet gives bit for bit the leading
+// coefficients of a Jet, at a fraction of the cost (a product: 3 multiplications at order 1,
+// 15 at order 4).
 #pragma once
 
 #include <array>
@@ -14,41 +21,61 @@ namespace flextrack::geometry
 {
 constexpr int jet_order = 4;
 
-struct Jet
+template <int N>
+struct TaylorJet
 {
-  std::array<double, jet_order + 1> c{};
+  static_assert(N >= 1 && N <= 4, "derivatives up to the fourth");
+  std::array<double, N + 1> c{};
 
-  static Jet constant(const double v) { Jet j; j.c[0] = v; return j; }
+  static TaylorJet constant(const double v) { TaylorJet j; j.c[0] = v; return j; }
   /// The independent variable x at x0: x0 + 1*h.
-  static Jet variable(const double x0) { Jet j; j.c[0] = x0; j.c[1] = 1.0; return j; }
+  static TaylorJet variable(const double x0) { TaylorJet j; j.c[0] = x0; j.c[1] = 1.0; return j; }
 
   double value() const { return c[0]; }
-  /// k-th derivative f^(k)(x0).
+  /// k-th derivative f^(k)(x0), k <= N.
   double derivative(const int k) const
   {
     static constexpr double factorial[] = {1., 1., 2., 6., 24.};
     return c[k] * factorial[k];
   }
+  /// True for the plain variable x0 + h: composing a jet with it changes nothing.
+  bool is_variable() const
+  {
+    bool plain = c[1] == 1.0;
+    for (int k = 2; k <= N; ++k) plain = plain && c[k] == 0.0;
+    return plain;
+  }
 };
 
-inline Jet operator+(Jet a, const Jet &b) { for (int k = 0; k <= jet_order; ++k) a.c[k] += b.c[k]; return a; }
-inline Jet operator-(Jet a, const Jet &b) { for (int k = 0; k <= jet_order; ++k) a.c[k] -= b.c[k]; return a; }
-inline Jet operator-(Jet a) { for (auto &v : a.c) v = -v; return a; }
-inline Jet operator*(const double s, Jet a) { for (auto &v : a.c) v *= s; return a; }
+/// Value and four derivatives: curves (curvature, torsion and their rates).
+using Jet = TaylorJet<jet_order>;
+/// Value and first derivative.
+using Dual = TaylorJet<1>;
 
-inline Jet operator*(const Jet &a, const Jet &b)
+template <int N>
+inline TaylorJet<N> operator+(TaylorJet<N> a, const TaylorJet<N> &b) { for (int k = 0; k <= N; ++k) a.c[k] += b.c[k]; return a; }
+template <int N>
+inline TaylorJet<N> operator-(TaylorJet<N> a, const TaylorJet<N> &b) { for (int k = 0; k <= N; ++k) a.c[k] -= b.c[k]; return a; }
+template <int N>
+inline TaylorJet<N> operator-(TaylorJet<N> a) { for (auto &v : a.c) v = -v; return a; }
+template <int N>
+inline TaylorJet<N> operator*(const double s, TaylorJet<N> a) { for (auto &v : a.c) v *= s; return a; }
+
+template <int N>
+inline TaylorJet<N> operator*(const TaylorJet<N> &a, const TaylorJet<N> &b)
 {
-  Jet r;
-  for (int k = 0; k <= jet_order; ++k)
+  TaylorJet<N> r;
+  for (int k = 0; k <= N; ++k)
     for (int i = 0; i <= k; ++i)
       r.c[k] += a.c[i] * b.c[k - i];
   return r;
 }
 
-inline Jet operator/(const Jet &a, const Jet &b)
+template <int N>
+inline TaylorJet<N> operator/(const TaylorJet<N> &a, const TaylorJet<N> &b)
 {
-  Jet q;
-  for (int k = 0; k <= jet_order; ++k)
+  TaylorJet<N> q;
+  for (int k = 0; k <= N; ++k)
     {
       double v = a.c[k];
       for (int i = 1; i <= k; ++i)
@@ -58,21 +85,23 @@ inline Jet operator/(const Jet &a, const Jet &b)
   return q;
 }
 
-inline Jet exp(const Jet &a)
+template <int N>
+inline TaylorJet<N> exp(const TaylorJet<N> &a)
 {
-  Jet e;
+  TaylorJet<N> e;
   e.c[0] = std::exp(a.c[0]);
-  for (int k = 1; k <= jet_order; ++k)
+  for (int k = 1; k <= N; ++k)
     for (int i = 1; i <= k; ++i)
       e.c[k] += i * a.c[i] * e.c[k - i] / k;
   return e;
 }
 
-inline Jet log(const Jet &a)
+template <int N>
+inline TaylorJet<N> log(const TaylorJet<N> &a)
 {
-  Jet l;
+  TaylorJet<N> l;
   l.c[0] = std::log(a.c[0]);
-  for (int k = 1; k <= jet_order; ++k)
+  for (int k = 1; k <= N; ++k)
     {
       double v = a.c[k];
       for (int i = 1; i < k; ++i)
@@ -83,13 +112,14 @@ inline Jet log(const Jet &a)
 }
 
 /// sin and cos together (their recurrences are coupled); hyperbolic = true gives sinh, cosh.
-inline void sin_cos(const Jet &a, Jet &s, Jet &co, const bool hyperbolic = false)
+template <int N>
+inline void sin_cos(const TaylorJet<N> &a, TaylorJet<N> &s, TaylorJet<N> &co, const bool hyperbolic = false)
 {
-  s = Jet(); co = Jet();
+  s = TaylorJet<N>(); co = TaylorJet<N>();
   s.c[0]  = hyperbolic ? std::sinh(a.c[0]) : std::sin(a.c[0]);
   co.c[0] = hyperbolic ? std::cosh(a.c[0]) : std::cos(a.c[0]);
   const double sign = hyperbolic ? 1.0 : -1.0;
-  for (int k = 1; k <= jet_order; ++k)
+  for (int k = 1; k <= N; ++k)
     for (int i = 1; i <= k; ++i)
       {
         s.c[k]  += i * a.c[i] * co.c[k - i] / k;
@@ -97,11 +127,12 @@ inline void sin_cos(const Jet &a, Jet &s, Jet &co, const bool hyperbolic = false
       }
 }
 
-inline Jet sqrt(const Jet &a)
+template <int N>
+inline TaylorJet<N> sqrt(const TaylorJet<N> &a)
 {
-  Jet r;
+  TaylorJet<N> r;
   r.c[0] = std::sqrt(a.c[0]);
-  for (int k = 1; k <= jet_order; ++k)
+  for (int k = 1; k <= N; ++k)
     {
       double v = a.c[k];
       for (int i = 1; i < k; ++i)
@@ -112,22 +143,23 @@ inline Jet sqrt(const Jet &a)
 }
 
 /// a^p for a constant real exponent p (a(x0) > 0, or p a non-negative integer).
-inline Jet pow(const Jet &a, const double p)
+template <int N>
+inline TaylorJet<N> pow(const TaylorJet<N> &a, const double p)
 {
   if (p == std::floor(p) && std::abs(p) <= 64)
     {
       // Integer powers by repeated squaring: valid for negative bases too.
-      Jet result = Jet::constant(1.0), base = a;
+      TaylorJet<N> result = TaylorJet<N>::constant(1.0), base = a;
       for (long n = static_cast<long>(std::abs(p)); n > 0; n >>= 1)
         {
           if (n & 1) result = result * base;
           base = base * base;
         }
-      return p >= 0 ? result : Jet::constant(1.0) / result;
+      return p >= 0 ? result : TaylorJet<N>::constant(1.0) / result;
     }
-  Jet u;
+  TaylorJet<N> u;
   u.c[0] = std::pow(a.c[0], p);
-  for (int k = 1; k <= jet_order; ++k)
+  for (int k = 1; k <= N; ++k)
     {
       double v = 0;
       for (int i = 0; i < k; ++i)
@@ -138,12 +170,13 @@ inline Jet pow(const Jet &a, const double p)
 }
 
 /// atan via (1 + a^2) atan(a)' = a'.
-inline Jet atan(const Jet &a)
+template <int N>
+inline TaylorJet<N> atan(const TaylorJet<N> &a)
 {
-  const Jet d = Jet::constant(1.0) + a * a;
-  Jet r;
+  const TaylorJet<N> d = TaylorJet<N>::constant(1.0) + a * a;
+  TaylorJet<N> r;
   r.c[0] = std::atan(a.c[0]);
-  for (int k = 1; k <= jet_order; ++k)
+  for (int k = 1; k <= N; ++k)
     {
       double v = k * a.c[k];
       for (int j = 1; j < k; ++j)
@@ -154,11 +187,12 @@ inline Jet atan(const Jet &a)
 }
 
 /// Composition f(g) where f is a jet around g(x0) and g a jet around x0.
-inline Jet compose(const Jet &f, Jet g)
+template <int N>
+inline TaylorJet<N> compose(const TaylorJet<N> &f, TaylorJet<N> g)
 {
   g.c[0] = 0.0;
-  Jet result = Jet::constant(f.c[0]), power = Jet::constant(1.0);
-  for (int k = 1; k <= jet_order; ++k)
+  TaylorJet<N> result = TaylorJet<N>::constant(f.c[0]), power = TaylorJet<N>::constant(1.0);
+  for (int k = 1; k <= N; ++k)
     {
       power = power * g;
       result = result + f.c[k] * power;
@@ -167,15 +201,16 @@ inline Jet compose(const Jet &f, Jet g)
 }
 
 /// Series reversion: given g with g(x0) = y0 and g'(x0) != 0, the jet of g^{-1} around y0.
-inline Jet invert(const Jet &g, const double x0)
+template <int N>
+inline TaylorJet<N> invert(const TaylorJet<N> &g, const double x0)
 {
   // h(d) solves g(x0 + h) = y0 + d. Fixed point h = (d - sum_{k>=2} g_k h^k) / g_1
   // gains one order per sweep.
-  Jet d = Jet::variable(0.0), h;
-  for (int sweep = 0; sweep < jet_order; ++sweep)
+  TaylorJet<N> d = TaylorJet<N>::variable(0.0), h;
+  for (int sweep = 0; sweep < N; ++sweep)
     {
-      Jet rest, power = h;
-      for (int k = 2; k <= jet_order; ++k)
+      TaylorJet<N> rest, power = h;
+      for (int k = 2; k <= N; ++k)
         {
           power = power * h;
           rest = rest + g.c[k] * power;

@@ -173,7 +173,6 @@ void RunRecorder::record(const double t, const Vector<double> &y, const multibod
   max_position_residual = std::max(max_position_residual, m.position_residual);
   max_velocity_residual = std::max(max_velocity_residual, m.velocity_residual);
   max_normalisation_drift = std::max(max_normalisation_drift, m.normalisation_drift);
-  max_balance_error = std::max(max_balance_error, std::abs(balance_error));
 
   if (probe_csv)
     {

@@ -55,7 +55,7 @@ public:
   unsigned int n_rows() const { return rows_recorded; }
   double last_time() const { return time_of_last_row; }
   /// Largest constraint drift over the rows: position, velocity residual, ||p| - 1|; energy balance.
-  double max_position_residual = 0, max_velocity_residual = 0, max_normalisation_drift = 0, max_balance_error = 0;
+  double max_position_residual = 0, max_velocity_residual = 0, max_normalisation_drift = 0;
 
 private:
   void create_hdf5(const std::string &path, unsigned long long expected_rows);

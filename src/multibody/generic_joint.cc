@@ -92,8 +92,8 @@ void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const dou
   phi.reinit(rows.size());
   phi_t.reinit(rows.size());
   l.grad.assign(rows.size(), Gradient());
-  geometry::Jet s;
-  if (law) s = law->jet(t);
+  geometry::Dual s; // a drive law's value and rate (Phi and Phi_t need no more)
+  if (law) s = law->dual(t);
   for (unsigned int r = 0; r < rows.size(); ++r)
     {
       const Row &row = rows[r];
@@ -125,7 +125,7 @@ void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const dou
             }
           case RowKind::own: // s - s(t): no marker gradient; its B_own entry is set in evaluate()
             {
-              const geometry::Jet s_d = row.own_law->jet(t);
+              const geometry::Dual s_d = row.own_law->dual(t);
               phi[r] = own_q[row.a] - s_d.value();
               phi_t[r] = -s_d.derivative(1);
               break;
@@ -150,8 +150,8 @@ void GenericJoint::driver_rates(const std::vector<const double *> &q, const doub
   for (unsigned int r = 0; r < rows.size(); ++r)
     {
       const Row &row = rows[r];
-      if (row.kind == RowKind::translation && row.driven) phi_t[r] = -law->jet(t).derivative(1);
-      else if (row.kind == RowKind::own) phi_t[r] = -row.own_law->jet(t).derivative(1);
+      if (row.kind == RowKind::translation && row.driven) phi_t[r] = -law->dual(t).derivative(1);
+      else if (row.kind == RowKind::own) phi_t[r] = -row.own_law->dual(t).derivative(1);
     }
 }
 

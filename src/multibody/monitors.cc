@@ -131,6 +131,7 @@ double EnergyBalance::error(const MonitorValues &now)
   const double balance = now.energy() - start.energy() - (now.work_applied + now.work_drivers - now.dissipated);
   scale = std::max({scale, now.kinetic, std::abs(now.gravity), std::abs(now.strain), std::abs(now.springs),
                     std::abs(now.work_applied), std::abs(now.work_drivers), std::abs(now.dissipated)});
+  largest_balance = std::max(largest_balance, std::abs(balance));
   return balance / scale;
 }
 } // namespace flextrack::multibody

@@ -53,6 +53,31 @@ TEST(Expression, jets_give_exact_derivatives_of_composite_functions)
   for (int k = 1; k <= 4; ++k) expect_close(one.derivative(k), 0.0, 1e-13, "d^k(1)");
 }
 
+TEST(Expression, first_order_jets_equal_the_leading_coefficients_of_full_jets_bit_for_bit)
+{
+  // taylor.h: every operation computes coefficient k from coefficients 0..k in the same order
+  // whatever the truncation, so Expression::dual (order 1, used for a curve's speed and a drive's
+  // rate) must return exactly the value and first derivative of Expression::jet (order 4).
+  // Reference: the order-4 evaluation itself; tolerance 0 (bit for bit). One expression per
+  // operation and function of the grammar (expression.h), at points inside every branch.
+  const std::vector<std::string> texts = {
+    "2*t^3 - t/(1 + t^2) + t^(-1.5) + t^0.7", "sin(t)*cos(2*t) - tan(t/3)", "sinh(t) + cosh(t/2)*tanh(t)",
+    "exp(-t)*log(1 + t) + sqrt(2 + t)", "atan(3*t - 1) + abs(t - 0.5)", "min(t, 1 - t) + max(t^2, 0.3)",
+    "if(t > 0.5, t^2, -t) + (t < 0.2) + (t >= 0.9) + (t <= 0.1)*t", "step(t - 0.4)*smoothstep(2*t - 0.3)",
+    "(1 + t)^(t + 1)", "-(t - pi)^2"};
+  for (const std::string &text : texts)
+    {
+      const Expression e(text, "t");
+      for (const double t : {0.05, 0.3, 0.45, 0.55, 0.8, 0.95})
+        {
+          const Jet full = e.jet(t);
+          const Dual first = e.dual(t);
+          EXPECT_EQ(first.c[0], full.c[0]) << text << " at t = " << t;
+          EXPECT_EQ(first.c[1], full.c[1]) << text << " at t = " << t;
+        }
+    }
+}
+
 TEST(Expression, switching_functions_and_comparisons_for_laws_of_time)
 {
   // Issue 25, item 14: a ramp-and-hold drive without tanh tricks. Values against the definitions
