@@ -173,16 +173,27 @@ void GenericJoint::evaluate(const std::vector<const double *> &q, const double *
       const unsigned int nv = markers[m]->body().n_v(), n_own = markers[m]->n_own_coordinates();
       e.B[m].reinit(rows.size(), nv);
       for (unsigned int r = 0; r < rows.size(); ++r)
-        for (unsigned int c = 0; c < nv + n_own; ++c)
-          {
-            double v = 0;
-            for (unsigned int a = 0; a < 3; ++a)
-              {
-                v += l.grad[r][4 * m][a] * k.J_position(a, c);
-                for (unsigned int x = 0; x < 3; ++x) v += l.grad[r][4 * m + 1 + x][a] * k.J_axes[x](a, c);
-              }
-            (c < nv ? e.B[m](r, c) : e.B_own(r, own_column + c - nv)) = v;
-          }
+        {
+          // A row depends on few of the marker's four vectors (a rotation row on one axis of
+          // each marker, a translation row on no axis of the first): zero gradients are skipped,
+          // the sums over the others are taken in the same order as before.
+          const Gradient &g = l.grad[r];
+          const auto nonzero = [](const Vector3 &w) { return w[0] != 0 || w[1] != 0 || w[2] != 0; };
+          const bool position = nonzero(g[4 * m]);
+          std::array<bool, 3> axis;
+          for (unsigned int x = 0; x < 3; ++x) axis[x] = nonzero(g[4 * m + 1 + x]);
+          for (unsigned int c = 0; c < nv + n_own; ++c)
+            {
+              double v = 0;
+              for (unsigned int a = 0; a < 3; ++a)
+                {
+                  if (position) v += g[4 * m][a] * k.J_position(a, c);
+                  for (unsigned int x = 0; x < 3; ++x)
+                    if (axis[x]) v += g[4 * m + 1 + x][a] * k.J_axes[x](a, c);
+                }
+              (c < nv ? e.B[m](r, c) : e.B_own(r, own_column + c - nv)) = v;
+            }
+        }
       own_column += n_own;
     }
   for (unsigned int r = 0; r < rows.size(); ++r)
