@@ -1,21 +1,26 @@
-// Epetra matrix and Amesos KLU factorisation of the DAE Jacobian (jacobian_solver.h).
+// Epetra matrix of the DAE Jacobian, factorised by KLU or LAPACK's dense LU (jacobian_solver.h).
 #include <multibody/jacobian_solver.h>
 #include <multibody/system.h>
 
-#include <Amesos.h>
-#include <Amesos_BaseSolver.h>
 #include <Epetra_CrsGraph.h>
 #include <Epetra_CrsMatrix.h>
-#include <Epetra_LinearProblem.h>
 #include <Epetra_Map.h>
 #include <Epetra_SerialComm.h>
-#include <Epetra_Vector.h>
 
 #include <klu.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+
+extern "C"
+{
+  // LAPACK (Debian's liblapack, which deal.II links): LU with partial pivoting, and its solve.
+  void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
+  void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda, const int *ipiv,
+               double *b, const int *ldb, int *info);
+}
 
 namespace flextrack::multibody
 {
@@ -37,13 +42,16 @@ struct JacobianSolver::Klu
 
 bool dense_factorisation_is_faster(const System &system)
 {
+  const unsigned int n = system.size();
+  std::size_t entries = 0;
+  for (const std::set<int> &row : system.jacobian_pattern()) entries += row.size();
+  if (n <= 5000 && entries >= 0.3 * double(n) * n) return true;
   double blocks = 0;
   for (unsigned int b = 0; b < system.n_bodies(); ++b) blocks += std::pow(double(system.body(b).n_v()), 3);
-  const unsigned int n = system.size();
   return n >= 1000 && 20 * blocks > std::pow(double(n), 3);
 }
 
-JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern, const bool dense)
+JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern, const bool dense_lu) : dense(dense_lu)
 {
   const int n = pattern.size();
   comm = std::make_unique<Epetra_SerialComm>();
@@ -61,17 +69,11 @@ JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern, const 
   A = std::make_unique<Epetra_CrsMatrix>(Copy, *graph);
   if (dense)
     {
-      x_vec = std::make_unique<Epetra_Vector>(*map);
-      b_vec = std::make_unique<Epetra_Vector>(*map);
-      problem = std::make_unique<Epetra_LinearProblem>(A.get(), x_vec.get(), b_vec.get());
-      Amesos factory;
-      lu.reset(factory.Create("Amesos_Lapack", *problem));
-      if (!lu) throw std::runtime_error("Amesos_Lapack is not available in this Trilinos");
+      dense_factors.resize(std::size_t(n) * n);
+      dense_pivots.resize(n);
     }
   else
-    {
-      klu = std::make_unique<Klu>();
-    }
+    klu = std::make_unique<Klu>();
 }
 
 JacobianSolver::~JacobianSolver() = default;
@@ -109,7 +111,6 @@ bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
       if (!klu->symbolic)
         throw std::runtime_error("KLU could not order the Jacobian (status " + std::to_string(common->status) + ")");
     }
-  ++count;
   if (klu->numeric && !fresh_pivots)
     {
       // The last pivot order, if its pivots are still good: a pivot ratio (KLU's rcond, min |u_ii|
@@ -132,16 +133,28 @@ bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
   return true;
 }
 
+bool JacobianSolver::factorize_dense()
+{
+  int *row_start = nullptr, *columns = nullptr;
+  double *values = nullptr;
+  if (A->ExtractCrsDataPointers(row_start, columns, values) != 0)
+    throw std::logic_error("JacobianSolver: the matrix' storage is not contiguous");
+  const int n = map->NumMyElements();
+  std::fill(dense_factors.begin(), dense_factors.end(), 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int k = row_start[i]; k < row_start[i + 1]; ++k) dense_factors[std::size_t(columns[k]) * n + i] = values[k];
+  int info = 0;
+  dgetrf_(&n, &n, dense_factors.data(), &n, dense_pivots.data(), &info);
+  if (info < 0) throw std::logic_error("LAPACK dgetrf: argument " + std::to_string(-info) + " is invalid");
+  dense_factored = info == 0; // info > 0: an exactly zero pivot, the matrix is singular
+  return dense_factored;
+}
+
 bool JacobianSolver::factorize(const bool fresh_pivots)
 {
-  if (klu) return factorize_with_klu(fresh_pivots);
-  if (!symbolic_done)
-    {
-      if (lu->SymbolicFactorization() != 0) return false;
-      symbolic_done = true;
-    }
   ++count;
-  return lu->NumericFactorization() == 0;
+  if (klu) return factorize_with_klu(fresh_pivots);
+  return factorize_dense();
 }
 
 void JacobianSolver::solve(const double *b, double *x)
@@ -155,8 +168,11 @@ void JacobianSolver::solve(const double *b, double *x)
         throw std::runtime_error("KLU could not solve with the Jacobian (status " + std::to_string(klu->common.status) + ")");
       return;
     }
-  std::memcpy(b_vec->Values(), b, n * sizeof(double));
-  lu->Solve();
-  std::memcpy(x, x_vec->Values(), n * sizeof(double));
+  if (!dense_factored) throw std::runtime_error("the Jacobian was not factorised (singular) before a solve");
+  if (x != b) std::memcpy(x, b, n * sizeof(double));
+  const int one = 1;
+  int info = 0;
+  dgetrs_("N", &n, &one, dense_factors.data(), &n, dense_pivots.data(), x, &n, &info);
+  if (info != 0) throw std::runtime_error("LAPACK could not solve with the Jacobian (dgetrs status " + std::to_string(info) + ")");
 }
 } // namespace flextrack::multibody

@@ -1,9 +1,9 @@
 // The sparse Jacobian of the DAE and its direct solver: an Epetra_CrsMatrix on an
 // Epetra_SerialComm (serial, so `flextrack run` needs no MPI_Init) with a pattern fixed at
-// construction, factorised by SuiteSparse's KLU (sparse LU) or, for a system dominated by large
-// dense blocks, by Amesos' LAPACK dense LU (see dense_factorisation_is_faster). The symbolic
-// factorisation (ordering) is computed once, at the first factorisation, and reused: only the
-// values change between Newton setups.
+// construction, factorised by SuiteSparse's KLU (sparse LU) or, for a Jacobian that is nearly
+// dense or dominated by large dense blocks, by LAPACK's dense LU (dgetrf; see
+// dense_factorisation_is_faster). KLU's symbolic factorisation (ordering) is computed once, at
+// the first factorisation, and reused: only the values change between Newton setups.
 //
 // KLU is called directly on the matrix's own compressed rows (no copy): read as compressed
 // columns they are A^T, so a solve is KLU's transposed solve. A refactorisation reuses the last
@@ -21,21 +21,22 @@ class Epetra_SerialComm;
 class Epetra_Map;
 class Epetra_CrsGraph;
 class Epetra_CrsMatrix;
-class Epetra_LinearProblem;
-class Epetra_Vector;
-class Amesos_BaseSolver;
 
 namespace flextrack::multibody
 {
 class System;
 
-/// Whether LAPACK's dense LU factorises the Jacobian of @p system (n unknowns) faster than KLU,
-/// given the dense blocks its bodies' equations form (m = each body's velocities: its rows are
-/// dense in its own coordinates). KLU's left-looking kernel, without BLAS, spends about
-/// sum m^3 operations on those blocks at a far lower rate than BLAS-3: the laser robot with its
-/// full FE bases (n = 2334, one block of 995) took 4.5 s per KLU factorisation (87 % of its
-/// run, 2026-12-02). Dense when n >= 1000 and 20 sum m^3 > n^3 (20: the measured speed ratio,
-/// rounded down); every scene of the test suite has n < 1000, or small blocks, and stays on KLU.
+/// Whether LAPACK's dense LU factorises the Jacobian of @p system (n unknowns) faster than KLU.
+/// KLU's left-looking kernel, without BLAS, works at a far lower rate than LAPACK's blocked LU,
+/// so dense wins when KLU's factors are nearly full anyway:
+///  - the pattern holds at least 30 % of the n^2 entries (n <= 5000). Every element's pattern is
+///    its rows x all its columns, and a flexible body's rows are dense in its own coordinates, so
+///    the scenes of a few flexible bodies are 60-99 % dense (the laser robot: n = 170, 59 %, with
+///    KLU's L + U holding 64 % of n^2; its integration took 14 % less time with the dense LU,
+///    2026-12-02). A chain of 16 flexible links (n = 704, 15 %) stays on KLU;
+///  - or large dense blocks dominate (m = each body's velocities): n >= 1000 and 20 sum m^3 > n^3.
+///    The laser robot with its full FE bases (n = 2334, one block of 995) took 4.5 s per KLU
+///    factorisation (87 % of its run, 2026-12-02); 20 is the measured speed ratio, rounded down.
 bool dense_factorisation_is_faster(const System &system);
 
 class JacobianSolver
@@ -50,7 +51,8 @@ public:
   void add(unsigned int row, unsigned int col, double value);
   const Epetra_CrsMatrix &matrix() const { return *A; }
   /// false if the factorisation finds the matrix singular. @p fresh_pivots: KLU searches pivots
-  /// afresh instead of reusing the last order (after a Newton failure: the old order may be why).
+  /// afresh instead of reusing the last order (after a Newton failure: the old order may be why);
+  /// the dense LU always does.
   bool factorize(bool fresh_pivots = false);
   void solve(const double *b, double *x);
   unsigned long n_factorizations() const { return count; }
@@ -60,12 +62,12 @@ private:
   std::unique_ptr<Epetra_Map> map;
   std::unique_ptr<Epetra_CrsGraph> graph;
   std::unique_ptr<Epetra_CrsMatrix> A;
-  // The dense path only (Amesos' LAPACK LU on the problem A x = b):
-  std::unique_ptr<Epetra_Vector> x_vec, b_vec;
-  std::unique_ptr<Epetra_LinearProblem> problem;
-  std::unique_ptr<Amesos_BaseSolver> lu;
-  bool symbolic_done = false;
   unsigned long count = 0;
+  // The dense path only: LAPACK's LU factors of A (column major, n x n) and its row swaps.
+  bool dense = false, dense_factored = false;
+  std::vector<double> dense_factors;
+  std::vector<int> dense_pivots;
+  bool factorize_dense();
   struct Klu; ///< KLU's settings, ordering and factors (the sparse path; jacobian_solver.cc)
   std::unique_ptr<Klu> klu;
   bool factorize_with_klu(bool fresh_pivots);

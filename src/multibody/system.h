@@ -30,6 +30,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,9 @@ public:
   /// dF/dy + alpha dF/dy' into jacobian(); counts evaluations.
   void assemble_jacobian(double t, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
   const Epetra_CrsMatrix &jacobian() const;
+  /// The Jacobian's sparsity pattern, row by row: every element's rows x (its columns, its
+  /// multipliers), and the diagonal.
+  std::vector<std::set<int>> jacobian_pattern() const;
   /// KLU factorisation of jacobian(); false if it is singular.
   /// @p fresh_pivots: search pivots afresh (KLU), not reuse the last order (jacobian_solver.h).
   bool factorize(bool fresh_pivots = false);

@@ -130,32 +130,35 @@ void System::body_jacobian(const unsigned int b, const double alpha, const Vecto
   add_local(v_rows, v_rows, dv);
 }
 
+std::vector<std::set<int>> System::jacobian_pattern() const
+{
+  const unsigned int l0 = nq + nv, m0 = nq + nv + nlambda;
+  std::vector<std::set<int>> pattern(size());
+  auto add = [&](const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols) {
+    for (const unsigned int r : rows) pattern[r].insert(cols.begin(), cols.end());
+  };
+  for (unsigned int b = 1; b < bodies.size(); ++b)
+    {
+      add(body_elements[b].rows, body_elements[b].columns);
+      add(body_elements[b].rows, {m0 + bodies[b].normalisation});
+    }
+  for (unsigned int j = 0; j < joints.size(); ++j)
+    {
+      std::vector<unsigned int> multipliers;
+      for (unsigned int r = 0; r < joints[j].active.size(); ++r)
+        multipliers.insert(multipliers.end(), {l0 + joints[j].multiplier + r, m0 + joints[j].multiplier + r});
+      add(joint_elements[j].rows, joint_elements[j].columns);
+      add(joint_elements[j].rows, multipliers);
+    }
+  for (unsigned int f = 0; f < forces.size(); ++f) add(force_elements[f].rows, force_elements[f].columns);
+  for (unsigned int i = 0; i < size(); ++i) pattern[i].insert(i); // diagonal, also for unused multipliers
+  return pattern;
+}
+
 void System::assemble_jacobian(const double t, const double alpha, const Vector<double> &y, const Vector<double> &yp)
 {
   const unsigned int l0 = nq + nv, m0 = nq + nv + nlambda;
-  if (!solver) // the pattern: every element's rows x (its columns, its multipliers)
-    {
-      std::vector<std::set<int>> pattern(size());
-      auto add = [&](const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols) {
-        for (const unsigned int r : rows) pattern[r].insert(cols.begin(), cols.end());
-      };
-      for (unsigned int b = 1; b < bodies.size(); ++b)
-        {
-          add(body_elements[b].rows, body_elements[b].columns);
-          add(body_elements[b].rows, {m0 + bodies[b].normalisation});
-        }
-      for (unsigned int j = 0; j < joints.size(); ++j)
-        {
-          std::vector<unsigned int> multipliers;
-          for (unsigned int r = 0; r < joints[j].active.size(); ++r)
-            multipliers.insert(multipliers.end(), {l0 + joints[j].multiplier + r, m0 + joints[j].multiplier + r});
-          add(joint_elements[j].rows, joint_elements[j].columns);
-          add(joint_elements[j].rows, multipliers);
-        }
-      for (unsigned int f = 0; f < forces.size(); ++f) add(force_elements[f].rows, force_elements[f].columns);
-      for (unsigned int i = 0; i < size(); ++i) pattern[i].insert(i); // diagonal, also for unused multipliers
-      solver = std::make_unique<JacobianSolver>(pattern, dense_factorisation_is_faster(*this));
-    }
+  if (!solver) solver = std::make_unique<JacobianSolver>(jacobian_pattern(), dense_factorisation_is_faster(*this));
   ++jacobian_count;
   solver->zero();
   for (unsigned int b = 1; b < bodies.size(); ++b) body_jacobian(b, alpha, y, yp);

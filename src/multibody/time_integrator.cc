@@ -159,8 +159,12 @@ std::string choose_automatic_settings(const System &system, IntegratorSettings &
     {
       unsigned int largest = 0;
       for (unsigned int b = 0; b < system.n_bodies(); ++b) largest = std::max(largest, system.body(b).n_v());
-      note << (note.tellp() > 0 ? "; " : "") << "the Jacobian (" << system.size() << " unknowns, a dense block of "
-           << largest << ") factorised by LAPACK's dense LU, not the sparse KLU (faster for large dense blocks)";
+      std::size_t entries = 0;
+      for (const auto &row : system.jacobian_pattern()) entries += row.size();
+      const double n = system.size();
+      note << (note.tellp() > 0 ? "; " : "") << "the Jacobian (" << system.size() << " unknowns, "
+           << std::lround(100.0 * entries / (n * n)) << " % of its entries in the pattern, the largest dense block "
+           << largest << ") factorised by LAPACK's dense LU, not the sparse KLU (faster when the factors are nearly full)";
     }
   return note.str();
 }
