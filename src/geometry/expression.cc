@@ -263,10 +263,11 @@ TaylorJet<N> Expression::evaluate_node(const Node &n, const TaylorJet<N> *values
       case Op::greater_equal: return TaylorJet<N>::constant(values[n.a].c[0] >= values[n.b].c[0] ? 1 : 0);
       case Op::pow:
         {
+          // A constant exponent (no variable in its subtree, decided when parsed, so that jets of
+          // every order and plain values take the same route): the power rule, valid for negative
+          // bases too; otherwise exp(exponent log(base)).
           const TaylorJet<N> &base = values[n.a], &exponent = values[n.b];
-          bool constant_exponent = true;
-          for (int k = 1; k <= N; ++k) constant_exponent &= exponent.c[k] == 0.0;
-          return constant_exponent ? pow(base, exponent.c[0]) : exp(exponent * log(base));
+          return nodes[n.b].has_variable ? exp(exponent * log(base)) : pow(base, exponent.c[0]);
         }
       case Op::func:
         {

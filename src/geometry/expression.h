@@ -69,6 +69,7 @@ private:
     int a = -1, b = -1; // operand node indices
     Function function = Function::none;
     int c = -1;         // third operand (if)
+    bool has_variable = false; ///< the node's subtree holds the variable (set by add())
   };
 
   template <int N>
@@ -97,7 +98,14 @@ private:
   /// ExpressionError "cannot parse expression "...": at character N: expected @p what".
   [[noreturn]] void fail(const std::string &what) const { fail_because("expected " + what); }
   [[noreturn]] void fail_because(const std::string &reason) const;
-  int add(Node n) { nodes.push_back(std::move(n)); return static_cast<int>(nodes.size()) - 1; }
+  int add(Node n)
+  {
+    n.has_variable = n.op == Op::variable;
+    for (const int operand : {n.a, n.b, n.c})
+      if (operand >= 0) n.has_variable = n.has_variable || nodes[operand].has_variable;
+    nodes.push_back(std::move(n));
+    return static_cast<int>(nodes.size()) - 1;
+  }
 
   std::string source, variable_name;
   std::map<std::string, double> constant_values;

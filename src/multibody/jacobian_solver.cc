@@ -44,14 +44,14 @@ bool dense_factorisation_is_faster(const System &system)
 {
   const unsigned int n = system.size();
   std::size_t entries = 0;
-  for (const std::set<int> &row : system.jacobian_pattern()) entries += row.size();
+  for (const std::vector<int> &row : system.jacobian_pattern()) entries += row.size();
   if (n <= 5000 && entries >= 0.3 * double(n) * n) return true;
   double blocks = 0;
   for (unsigned int b = 0; b < system.n_bodies(); ++b) blocks += std::pow(double(system.body(b).n_v()), 3);
   return n >= 1000 && 20 * blocks > std::pow(double(n), 3);
 }
 
-JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern, const bool dense_lu) : dense(dense_lu)
+JacobianSolver::JacobianSolver(const std::vector<std::vector<int>> &pattern, const bool dense_lu) : dense(dense_lu)
 {
   const int n = pattern.size();
   comm = std::make_unique<Epetra_SerialComm>();
@@ -61,7 +61,7 @@ JacobianSolver::JacobianSolver(const std::vector<std::set<int>> &pattern, const 
   graph = std::make_unique<Epetra_CrsGraph>(Copy, *map, per_row.data(), true);
   for (int i = 0; i < n; ++i)
     {
-      std::vector<int> cols(pattern[i].begin(), pattern[i].end());
+      std::vector<int> cols(pattern[i]);
       graph->InsertGlobalIndices(i, cols.size(), cols.data());
     }
   graph->FillComplete();

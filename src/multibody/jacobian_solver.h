@@ -14,7 +14,6 @@
 #pragma once
 
 #include <memory>
-#include <set>
 #include <vector>
 
 class Epetra_SerialComm;
@@ -42,8 +41,9 @@ bool dense_factorisation_is_faster(const System &system);
 class JacobianSolver
 {
 public:
-  /// @p pattern[row]: the columns of row; @p dense: factorise by LAPACK's dense LU, not KLU.
-  explicit JacobianSolver(const std::vector<std::set<int>> &pattern, bool dense = false);
+  /// @p pattern[row]: the columns of row (sorted, no repeats); @p dense: factorise by LAPACK's
+  /// dense LU, not KLU.
+  explicit JacobianSolver(const std::vector<std::vector<int>> &pattern, bool dense = false);
   ~JacobianSolver();
   void zero();
   /// A(rows[i], cols[k]) += block[i * cols.size() + k].

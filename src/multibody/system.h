@@ -18,7 +18,7 @@
 // alpha M, Phi_q, Phi_q^T and B^T are analytic; the derivatives of M v' - Q and of the
 // multiplier terms w.r.t. q and v are central differences of each element's own residual
 // (element-local, so a column costs one element evaluation, not a system one). It is factorised
-// by Amesos KLU, the symbolic factorisation done once.
+// by KLU or LAPACK's dense LU (jacobian_solver.h).
 #pragma once
 
 #include <multibody/body.h>
@@ -30,7 +30,6 @@
 #include <deal.II/lac/vector.h>
 
 #include <memory>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -120,8 +119,9 @@ public:
   const Epetra_CrsMatrix &jacobian() const;
   /// The Jacobian's sparsity pattern, row by row: every element's rows x (its columns, its
   /// multipliers), and the diagonal.
-  std::vector<std::set<int>> jacobian_pattern() const;
-  /// KLU factorisation of jacobian(); false if it is singular.
+  /// Each row's columns, sorted, without repeats.
+  std::vector<std::vector<int>> jacobian_pattern() const;
+  /// LU factorisation of jacobian() (KLU or dense, jacobian_solver.h); false if it is singular.
   /// @p fresh_pivots: search pivots afresh (KLU), not reuse the last order (jacobian_solver.h).
   bool factorize(bool fresh_pivots = false);
   /// x = J^{-1} b (after factorize()); x and b may alias.

@@ -11,6 +11,8 @@
 #include <multibody/jacobian_solver.h>
 #include <multibody/system.h>
 
+#include <algorithm>
+
 #include <Epetra_CrsMatrix.h>
 
 #include <set>
@@ -130,12 +132,13 @@ void System::body_jacobian(const unsigned int b, const double alpha, const Vecto
   add_local(v_rows, v_rows, dv);
 }
 
-std::vector<std::set<int>> System::jacobian_pattern() const
+std::vector<std::vector<int>> System::jacobian_pattern() const
 {
   const unsigned int l0 = nq + nv, m0 = nq + nv + nlambda;
-  std::vector<std::set<int>> pattern(size());
+  // Vectors sorted at the end, not sets: a full-FE body's pattern holds millions of entries.
+  std::vector<std::vector<int>> pattern(size());
   auto add = [&](const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols) {
-    for (const unsigned int r : rows) pattern[r].insert(cols.begin(), cols.end());
+    for (const unsigned int r : rows) pattern[r].insert(pattern[r].end(), cols.begin(), cols.end());
   };
   for (unsigned int b = 1; b < bodies.size(); ++b)
     {
@@ -151,7 +154,13 @@ std::vector<std::set<int>> System::jacobian_pattern() const
       add(joint_elements[j].rows, multipliers);
     }
   for (unsigned int f = 0; f < forces.size(); ++f) add(force_elements[f].rows, force_elements[f].columns);
-  for (unsigned int i = 0; i < size(); ++i) pattern[i].insert(i); // diagonal, also for unused multipliers
+  for (unsigned int i = 0; i < size(); ++i)
+    {
+      std::vector<int> &row = pattern[i];
+      row.push_back(i); // the diagonal, also for unused multipliers
+      std::sort(row.begin(), row.end());
+      row.erase(std::unique(row.begin(), row.end()), row.end());
+    }
   return pattern;
 }
 
