@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <iomanip>
 #include <sstream>
 
@@ -115,6 +116,7 @@ bool GeneralizedAlphaIntegrator::attempt_step(const double h)
           system.assemble_jacobian(t1, c, y_new, yp_new);
           ++stats.jacobian_evaluations;
           ++stats.factorizations;
+          matrix_c = std::numeric_limits<double>::quiet_NaN(); // no usable factors until this one succeeds
           if (!system.factorize()) return false;
           matrix_c = c;
           matrix_fresh = true;
