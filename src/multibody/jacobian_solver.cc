@@ -40,18 +40,24 @@ struct JacobianSolver::Klu
   }
 };
 
-bool dense_factorisation_is_faster(const System &system)
+double pattern_fill(const std::vector<std::vector<int>> &pattern)
+{
+  std::size_t entries = 0;
+  for (const std::vector<int> &row : pattern) entries += row.size();
+  const double n = pattern.size();
+  return n > 0 ? entries / (n * n) : 0.0;
+}
+
+bool dense_factorisation_is_faster(const System &system, const std::vector<std::vector<int>> &pattern)
 {
   const unsigned int n = system.size();
-  std::size_t entries = 0;
-  for (const std::vector<int> &row : system.jacobian_pattern()) entries += row.size();
-  if (n <= 5000 && entries >= 0.3 * double(n) * n) return true;
+  if (n <= 5000 && pattern_fill(pattern) >= 0.3) return true;
   double blocks = 0;
   for (unsigned int b = 0; b < system.n_bodies(); ++b) blocks += std::pow(double(system.body(b).n_v()), 3);
   return n >= 1000 && 20 * blocks > std::pow(double(n), 3);
 }
 
-JacobianSolver::JacobianSolver(const std::vector<std::vector<int>> &pattern, const bool dense_lu) : dense(dense_lu)
+JacobianSolver::JacobianSolver(const std::vector<std::vector<int>> &pattern, const bool dense)
 {
   const int n = pattern.size();
   comm = std::make_unique<Epetra_SerialComm>();
@@ -97,12 +103,17 @@ void JacobianSolver::add(const unsigned int row, const unsigned int col, const d
   if (err != 0) throw std::logic_error("JacobianSolver: entry outside the pattern");
 }
 
+void JacobianSolver::compressed_rows(int *&row_start, int *&columns, double *&values) const
+{
+  if (A->ExtractCrsDataPointers(row_start, columns, values) != 0)
+    throw std::logic_error("JacobianSolver: the matrix' storage is not contiguous");
+}
+
 bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
 {
   int *row_start = nullptr, *columns = nullptr;
   double *values = nullptr;
-  if (A->ExtractCrsDataPointers(row_start, columns, values) != 0)
-    throw std::logic_error("JacobianSolver: the matrix' storage is not contiguous");
+  compressed_rows(row_start, columns, values);
   const int n = map->NumMyElements();
   klu_common *common = &klu->common;
   if (!klu->symbolic)
@@ -137,8 +148,7 @@ bool JacobianSolver::factorize_dense()
 {
   int *row_start = nullptr, *columns = nullptr;
   double *values = nullptr;
-  if (A->ExtractCrsDataPointers(row_start, columns, values) != 0)
-    throw std::logic_error("JacobianSolver: the matrix' storage is not contiguous");
+  compressed_rows(row_start, columns, values);
   const int n = map->NumMyElements();
   std::fill(dense_factors.begin(), dense_factors.end(), 0.0);
   for (int i = 0; i < n; ++i)

@@ -25,7 +25,8 @@ namespace flextrack::multibody
 {
 class System;
 
-/// Whether LAPACK's dense LU factorises the Jacobian of @p system (n unknowns) faster than KLU.
+/// Whether LAPACK's dense LU factorises the Jacobian of @p system (n unknowns, its @p pattern from
+/// System::jacobian_pattern) faster than KLU.
 /// KLU's left-looking kernel, without BLAS, works at a far lower rate than LAPACK's blocked LU,
 /// so dense wins when KLU's factors are nearly full anyway:
 ///  - the pattern holds at least 30 % of the n^2 entries (n <= 5000). Every element's pattern is
@@ -36,13 +37,15 @@ class System;
 ///  - or large dense blocks dominate (m = each body's velocities): n >= 1000 and 20 sum m^3 > n^3.
 ///    The laser robot with its full FE bases (n = 2334, one block of 995) took 4.5 s per KLU
 ///    factorisation (87 % of its run, 2026-12-02); 20 is the measured speed ratio, rounded down.
-bool dense_factorisation_is_faster(const System &system);
+bool dense_factorisation_is_faster(const System &system, const std::vector<std::vector<int>> &pattern);
+/// The share of the n^2 entries of an n x n matrix that @p pattern (each row's columns) holds.
+double pattern_fill(const std::vector<std::vector<int>> &pattern);
 
 class JacobianSolver
 {
 public:
   /// @p pattern[row]: the columns of row (sorted, no repeats); @p dense: factorise by LAPACK's
-  /// dense LU, not KLU.
+  /// dense LU, not KLU (the sparse path is the one with KLU's state).
   explicit JacobianSolver(const std::vector<std::vector<int>> &pattern, bool dense = false);
   ~JacobianSolver();
   void zero();
@@ -64,10 +67,12 @@ private:
   std::unique_ptr<Epetra_CrsMatrix> A;
   unsigned long count = 0;
   // The dense path only: LAPACK's LU factors of A (column major, n x n) and its row swaps.
-  bool dense = false, dense_factored = false;
+  bool dense_factored = false;
   std::vector<double> dense_factors;
   std::vector<int> dense_pivots;
   bool factorize_dense();
+  /// The matrix's compressed rows in place: row starts, column indices, values.
+  void compressed_rows(int *&row_start, int *&columns, double *&values) const;
   struct Klu; ///< KLU's settings, ordering and factors (the sparse path; jacobian_solver.cc)
   std::unique_ptr<Klu> klu;
   bool factorize_with_klu(bool fresh_pivots);

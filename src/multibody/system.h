@@ -118,8 +118,7 @@ public:
   void assemble_jacobian(double t, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
   const Epetra_CrsMatrix &jacobian() const;
   /// The Jacobian's sparsity pattern, row by row: every element's rows x (its columns, its
-  /// multipliers), and the diagonal.
-  /// Each row's columns, sorted, without repeats.
+  /// multipliers), and the diagonal; each row's columns sorted, without repeats.
   std::vector<std::vector<int>> jacobian_pattern() const;
   /// LU factorisation of jacobian() (KLU or dense, jacobian_solver.h); false if it is singular.
   /// @p fresh_pivots: search pivots afresh (KLU), not reuse the last order (jacobian_solver.h).

@@ -15,8 +15,6 @@
 
 #include <Epetra_CrsMatrix.h>
 
-#include <set>
-
 namespace flextrack::multibody
 {
 using namespace dealii;
@@ -167,7 +165,11 @@ std::vector<std::vector<int>> System::jacobian_pattern() const
 void System::assemble_jacobian(const double t, const double alpha, const Vector<double> &y, const Vector<double> &yp)
 {
   const unsigned int l0 = nq + nv, m0 = nq + nv + nlambda;
-  if (!solver) solver = std::make_unique<JacobianSolver>(jacobian_pattern(), dense_factorisation_is_faster(*this));
+  if (!solver)
+    {
+      const auto pattern = jacobian_pattern();
+      solver = std::make_unique<JacobianSolver>(pattern, dense_factorisation_is_faster(*this, pattern));
+    }
   ++jacobian_count;
   solver->zero();
   for (unsigned int b = 1; b < bodies.size(); ++b) body_jacobian(b, alpha, y, yp);

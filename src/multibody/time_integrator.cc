@@ -155,15 +155,13 @@ std::string choose_automatic_settings(const System &system, IntegratorSettings &
     note << (note.tellp() > 0 ? "; " : "")
          << "the joints' multipliers not in the Newton test (their error reaches the velocities, which are tested)";
   // The factorisation of the Jacobian (multibody/jacobian_solver.h): said when it is not KLU.
-  if (dense_factorisation_is_faster(system))
+  const auto pattern = system.jacobian_pattern();
+  if (dense_factorisation_is_faster(system, pattern))
     {
       unsigned int largest = 0;
       for (unsigned int b = 0; b < system.n_bodies(); ++b) largest = std::max(largest, system.body(b).n_v());
-      std::size_t entries = 0;
-      for (const auto &row : system.jacobian_pattern()) entries += row.size();
-      const double n = system.size();
       note << (note.tellp() > 0 ? "; " : "") << "the Jacobian (" << system.size() << " unknowns, "
-           << std::lround(100.0 * entries / (n * n)) << " % of its entries in the pattern, the largest dense block "
+           << std::lround(100 * pattern_fill(pattern)) << " % of its entries in the pattern, the largest dense block "
            << largest << ") factorised by LAPACK's dense LU, not the sparse KLU (faster when the factors are nearly full)";
     }
   return note.str();
