@@ -5,9 +5,11 @@ add_test(NAME badinput_output_folder_cannot_run_shell_commands
           ${CMAKE_CURRENT_BINARY_DIR}/badinput/shell_injection)
 add_test(NAME badinput_hostile_reduced_body_files_are_refused
   COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/badinput/hostile_reduced_body.py $<TARGET_FILE:flextrack>
-          ${CMAKE_CURRENT_BINARY_DIR}/exports/result/reduced_body.h5 ${CMAKE_CURRENT_BINARY_DIR}/badinput/hostile_body)
+          ${CMAKE_CURRENT_BINARY_DIR}/multibody_cli/output/curved_boom_body/reduced_body.h5
+          ${CMAKE_CURRENT_BINARY_DIR}/badinput/hostile_body)
+# The valid body to mutate comes from the fixture curved_boom_reduced (tests/multibody_cli.cmake).
 set_tests_properties(badinput_hostile_reduced_body_files_are_refused PROPERTIES
-  DEPENDS cli_exports_read_by_paraview_meshio_h5py)
+  FIXTURES_REQUIRED curved_boom_reduced)
 set_tests_properties(badinput_output_folder_cannot_run_shell_commands badinput_hostile_reduced_body_files_are_refused
   PROPERTIES LABELS badinput)
 
