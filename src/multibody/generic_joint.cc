@@ -224,3 +224,275 @@ void GenericJoint::reaction(const std::vector<const double *> &q, const double *
   base_axes = l.k[1].axes;
 }
 } // namespace flextrack::multibody
+
+namespace flextrack::multibody
+{
+void GenericJoint::row_hessian(const unsigned int r, const double angle, std::vector<HessianTerm> &terms) const
+{
+  terms.clear();
+  const auto pair = [&](const unsigned int a, const unsigned int b, const double c) {
+    terms.push_back({a, b, c});
+    terms.push_back({b, a, c});
+  };
+  const Row &row = rows[r];
+  switch (row.kind)
+    {
+      case RowKind::translation: // e_j,a . (r_i - r_j)
+        pair(0, 5 + row.a, 1);
+        pair(4, 5 + row.a, -1);
+        break;
+      case RowKind::rotation: // e_i,a . e_j,b
+        pair(1 + row.a, 5 + row.b, 1);
+        break;
+      case RowKind::angle: // e_i,x . (-sin th e_j,x + cos th e_j,y)
+        pair(1, 5, -std::sin(angle));
+        pair(1, 6, std::cos(angle));
+        break;
+      case RowKind::own: // linear in the own coordinate
+        break;
+    }
+}
+
+bool GenericJoint::derivatives(const std::vector<const double *> &q, const double *own_q, const double t,
+                               const double *lambda, const double *mu, const std::vector<const double *> &v,
+                               const double *own_v, JointDerivatives &d) const
+{
+  // Per marker quantity y_a (a = 0..7: r_i, e_i[3], r_j, e_j[3]), with its Jacobian J_a (columns:
+  // the body's v, then the marker's own coordinates), Y_a = dy_a/dq = J_a T^+ (T^+: R, the
+  // omega columns times 2 G(p) / |p|^2, eta; own coordinates as they are), u_a = J_a v, and for
+  // each row the quadratic form C of row_hessian():
+  //   d(B^T w)/dq          = sum_ab W_ab J_a^T Y_b + sum_a H_a(w_a),   W = sum_r w_r C_r,
+  //                          w_a = sum_r w_r dPhi_r/dy_a,  H_a(w) = d(J_a^T w)/dq at fixed w
+  //   d(B_r v + Phi_t)/dq  = sum_ab C_r,ab u_a^T Y_b + sum_a (dPhi_r/dy_a)^T V_a  (+ Phi_t's own),
+  //                          V_a = d(J_a v)/dq at fixed v.
+  // H and V of a marker of body-fixed form (marker.h), with s = omega x z + Z eta',
+  // a = A^T w, c = 2 / |p|^2:
+  //   H(w): omega rows  c z~ a~ G (p columns), -a~ Z (eta columns); eta rows  c Z^T a~ G (p columns)
+  //   V:    -c A s~ G (p columns), A omega~ Z (eta columns).
+  // Of any other marker (a track contact) from central differences of its own J over its
+  // body's q and its own coordinates: one marker evaluation per step, not a joint's.
+  if (&markers[0]->body() == &markers[1]->body()) return false;
+
+  thread_local Local l;
+  thread_local Vector<double> phi, phi_t;
+  evaluate_rows(q, own_q, t, l, phi, phi_t);
+  double angle = 0, angle_rate = 0;
+  if (driver == DriverKind::angle)
+    {
+      const geometry::Dual s = law->dual(t);
+      angle = s.value(), angle_rate = s.derivative(1);
+    }
+
+  struct Side
+  {
+    unsigned int nq = 0, nv = 0, n_own = 0, q0 = 0, v0 = 0, own0 = 0;
+    const BodyFixedForm *form = nullptr;
+    Matrix3 A;
+    double c = 0; // 2 / |p|^2
+    std::array<std::array<double, 4>, 3> G;
+    Vector3 omega;
+    std::vector<double> v; // the body's velocities, then the marker's own
+    std::array<const FullMatrix<double> *, 4> J;
+    std::array<Vector3, 4> z, u, s;
+    std::array<FullMatrix<double>, 4> Y, V;
+    std::array<std::vector<FullMatrix<double>>, 4> dJ; // dJ_a / dq_k (no body-fixed form)
+  };
+  thread_local Side side[2];
+  unsigned int nq_total = 0, nv_total = 0;
+  for (unsigned int m = 0; m < 2; ++m)
+    {
+      Side &S = side[m];
+      const Body &body = markers[m]->body();
+      S.nq = body.n_q(), S.nv = body.n_v(), S.n_own = markers[m]->n_own_coordinates();
+      S.q0 = nq_total, S.v0 = nv_total, S.own0 = m == 0 ? 0 : side[0].n_own;
+      S.form = markers[m]->body_fixed_form();
+      nq_total += S.nq, nv_total += S.nv;
+    }
+  const unsigned int n_own = side[0].n_own + side[1].n_own;
+  const auto q_column = [&](const Side &S, const unsigned int k) { return k < S.nq ? S.q0 + k : nq_total + S.own0 + k - S.nq; };
+  const auto v_row = [&](const Side &S, const unsigned int i) { return i < S.nv ? S.v0 + i : nv_total + S.own0 + i - S.nv; };
+
+  for (unsigned int m = 0; m < 2; ++m)
+    {
+      Side &S = side[m];
+      const MarkerKinematics &k = l.k[m];
+      S.v.assign(S.nv + S.n_own, 0.0);
+      for (unsigned int i = 0; i < S.nv; ++i) S.v[i] = v[m][i];
+      for (unsigned int i = 0; i < S.n_own; ++i) S.v[S.nv + i] = own_v[S.own0 + i];
+      if (S.nv > 0)
+        {
+          const double *x = q[m];
+          const geometry::EulerParameters p{{x[3], x[4], x[5], x[6]}};
+          S.A = geometry::rotation_matrix(p);
+          S.c = 2 / (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
+          S.G = geometry::body_velocity_matrix(p);
+          S.omega = Vector3({v[m][3], v[m][4], v[m][5]});
+        }
+      for (unsigned int a = 0; a < 4; ++a)
+        {
+          const FullMatrix<double> &J = *(S.J[a] = a == 0 ? &k.J_position : &k.J_axes[a - 1]);
+          S.u[a] = Vector3();
+          for (unsigned int i = 0; i < 3; ++i)
+            for (unsigned int c = 0; c < S.nv + S.n_own; ++c) S.u[a][i] += J(i, c) * S.v[c];
+          FullMatrix<double> &Y = S.Y[a];
+          Y.reinit(3, S.nq + S.n_own);
+          for (unsigned int i = 0; i < 3; ++i)
+            {
+              if (S.nv > 0)
+                {
+                  if (a == 0) Y(i, i) = 1;
+                  for (unsigned int e = 0; e < 4; ++e)
+                    Y(i, 3 + e) = S.c * (J(i, 3) * S.G[0][e] + J(i, 4) * S.G[1][e] + J(i, 5) * S.G[2][e]);
+                  for (unsigned int j = 7; j < S.nq; ++j) Y(i, j) = J(i, j - 1);
+                }
+              for (unsigned int j = 0; j < S.n_own; ++j) Y(i, S.nq + j) = J(i, S.nv + j);
+            }
+        }
+      if (S.form) // closed forms; such a marker has no own coordinates
+        {
+          if (S.nv == 0) continue;
+          const unsigned int n = markers[m]->body().n_modes();
+          for (unsigned int a = 0; a < 4; ++a)
+            {
+              const FullMatrix<double> &Z = S.form->Z[a];
+              S.z[a] = S.form->z0[a];
+              Vector3 Z_etadot;
+              for (unsigned int i = 0; i < 3; ++i)
+                for (unsigned int j = 0; j < n; ++j) S.z[a][i] += Z(i, j) * q[m][7 + j], Z_etadot[i] += Z(i, j) * v[m][6 + j];
+              S.s[a] = cross_product_3d(S.omega, S.z[a]) + Z_etadot;
+              FullMatrix<double> &V = S.V[a];
+              V.reinit(3, S.nq);
+              const Matrix3 As = S.A * geometry::skew(S.s[a]), Aw = S.A * geometry::skew(S.omega);
+              for (unsigned int i = 0; i < 3; ++i)
+                {
+                  for (unsigned int e = 0; e < 4; ++e)
+                    V(i, 3 + e) = -S.c * (As[i][0] * S.G[0][e] + As[i][1] * S.G[1][e] + As[i][2] * S.G[2][e]);
+                  for (unsigned int j = 0; j < n; ++j) V(i, 7 + j) = Aw[i][0] * Z(0, j) + Aw[i][1] * Z(1, j) + Aw[i][2] * Z(2, j);
+                }
+            }
+          continue;
+        }
+      // Central differences of the marker's J over its body's q and its own coordinates.
+      thread_local std::vector<double> x, own;
+      thread_local MarkerKinematics plus, minus;
+      x.assign(S.nq, 0.0);
+      own.assign(S.n_own, 0.0);
+      for (unsigned int i = 0; i < S.nq; ++i) x[i] = q[m][i];
+      for (unsigned int i = 0; i < S.n_own; ++i) own[i] = own_q[S.own0 + i];
+      for (unsigned int a = 0; a < 4; ++a)
+        {
+          S.dJ[a].resize(S.nq + S.n_own);
+          S.V[a].reinit(3, S.nq + S.n_own);
+        }
+      for (unsigned int c = 0; c < S.nq + S.n_own; ++c)
+        {
+          double &entry = c < S.nq ? x[c] : own[c - S.nq];
+          const double x0 = entry, h = 1e-6 * (1 + std::abs(x0));
+          entry = x0 + h;
+          markers[m]->evaluate(S.nq ? x.data() : nullptr, own.data(), plus);
+          entry = x0 - h;
+          markers[m]->evaluate(S.nq ? x.data() : nullptr, own.data(), minus);
+          entry = x0;
+          for (unsigned int a = 0; a < 4; ++a)
+            {
+              const FullMatrix<double> &Jp = a == 0 ? plus.J_position : plus.J_axes[a - 1];
+              const FullMatrix<double> &Jm = a == 0 ? minus.J_position : minus.J_axes[a - 1];
+              FullMatrix<double> &dJ = S.dJ[a][c];
+              dJ.reinit(3, S.nv + S.n_own);
+              for (unsigned int i = 0; i < 3; ++i)
+                for (unsigned int j = 0; j < S.nv + S.n_own; ++j)
+                  {
+                    dJ(i, j) = (Jp(i, j) - Jm(i, j)) / (2 * h);
+                    S.V[a](i, c) += dJ(i, j) * S.v[j];
+                  }
+            }
+        }
+    }
+
+  thread_local std::vector<HessianTerm> terms;
+  const auto weighted = [&](const double *w, FullMatrix<double> &D) {
+    D.reinit(nv_total + n_own, nq_total + n_own);
+    double W[8][8] = {};
+    std::array<Vector3, 8> w_a;
+    for (unsigned int r = 0; r < rows.size(); ++r)
+      {
+        if (w[r] == 0) continue;
+        row_hessian(r, angle, terms);
+        for (const HessianTerm &h : terms) W[h.a][h.b] += w[r] * h.c;
+        for (unsigned int a = 0; a < 8; ++a) w_a[a] += w[r] * l.grad[r][a];
+      }
+    for (unsigned int a = 0; a < 8; ++a)
+      {
+        const Side &Sa = side[a / 4];
+        const unsigned int na = Sa.nv + Sa.n_own;
+        if (na == 0) continue;
+        const FullMatrix<double> &J = *Sa.J[a % 4];
+        for (unsigned int b = 0; b < 8; ++b) // W_ab J_a^T Y_b
+          {
+            const Side &Sb = side[b / 4];
+            if (W[a][b] == 0 || Sb.nq + Sb.n_own == 0) continue;
+            const FullMatrix<double> &Y = Sb.Y[b % 4];
+            for (unsigned int i = 0; i < na; ++i)
+              for (unsigned int k = 0; k < Sb.nq + Sb.n_own; ++k)
+                D(v_row(Sa, i), q_column(Sb, k)) += W[a][b] * (J(0, i) * Y(0, k) + J(1, i) * Y(1, k) + J(2, i) * Y(2, k));
+          }
+        if (w_a[a].norm_square() == 0) continue;
+        if (!Sa.form) // H_a(w_a) from the differences of J
+          {
+            for (unsigned int k = 0; k < Sa.nq + Sa.n_own; ++k)
+              {
+                const FullMatrix<double> &dJ = Sa.dJ[a % 4][k];
+                for (unsigned int i = 0; i < na; ++i)
+                  D(v_row(Sa, i), q_column(Sa, k)) += dJ(0, i) * w_a[a][0] + dJ(1, i) * w_a[a][1] + dJ(2, i) * w_a[a][2];
+              }
+            continue;
+          }
+        // H_a(w_a), closed form
+        const Matrix3 a_skew = geometry::skew(transpose(Sa.A) * w_a[a]);
+        const Matrix3 za = geometry::skew(Sa.z[a % 4]) * a_skew;
+        const FullMatrix<double> &Z = Sa.form->Z[a % 4];
+        const unsigned int n = Z.n();
+        for (unsigned int e = 0; e < 4; ++e)
+          {
+            Vector3 aG; // c a~ G e_e
+            for (unsigned int i = 0; i < 3; ++i)
+              for (unsigned int j = 0; j < 3; ++j) aG[i] += Sa.c * a_skew[i][j] * Sa.G[j][e];
+            for (unsigned int i = 0; i < 3; ++i)
+              D(Sa.v0 + 3 + i, Sa.q0 + 3 + e) += Sa.c * (za[i][0] * Sa.G[0][e] + za[i][1] * Sa.G[1][e] + za[i][2] * Sa.G[2][e]);
+            for (unsigned int j = 0; j < n; ++j)
+              D(Sa.v0 + 6 + j, Sa.q0 + 3 + e) += Z(0, j) * aG[0] + Z(1, j) * aG[1] + Z(2, j) * aG[2];
+          }
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < n; ++j)
+            D(Sa.v0 + 3 + i, Sa.q0 + 7 + j) -= a_skew[i][0] * Z(0, j) + a_skew[i][1] * Z(1, j) + a_skew[i][2] * Z(2, j);
+      }
+  };
+  weighted(lambda, d.lambda_q);
+  weighted(mu, d.mu_q);
+
+  d.rate_q.reinit(rows.size(), nq_total + n_own);
+  const auto add_row_times = [&](const unsigned int r, const double c, const Vector3 &x, const unsigned int b,
+                                 const FullMatrix<double> &M) { // row r += c x^T M (columns of marker b / 4)
+    const Side &S = side[b / 4];
+    for (unsigned int k = 0; k < S.nq + S.n_own; ++k)
+      d.rate_q(r, q_column(S, k)) += c * (x[0] * M(0, k) + x[1] * M(1, k) + x[2] * M(2, k));
+  };
+  for (unsigned int r = 0; r < rows.size(); ++r)
+    {
+      row_hessian(r, angle, terms);
+      for (const HessianTerm &h : terms) add_row_times(r, h.c, side[h.a / 4].u[h.a % 4], h.b, side[h.b / 4].Y[h.b % 4]);
+      for (unsigned int a = 0; a < 8; ++a)
+        if ((side[a / 4].nv > 0 || !side[a / 4].form) && l.grad[r][a].norm_square() != 0)
+          add_row_times(r, 1, l.grad[r][a], a, side[a / 4].V[a % 4]);
+      if (rows[r].kind == RowKind::angle) // Phi_t = -(e_i,x . (cos th e_j,x + sin th e_j,y)) th'
+        {
+          const double c = std::cos(angle), sn = std::sin(angle);
+          const Vector3 &ei = l.k[0].axes[0];
+          add_row_times(r, -angle_rate, c * l.k[1].axes[0] + sn * l.k[1].axes[1], 1, side[0].Y[1]);
+          add_row_times(r, -angle_rate * c, ei, 5, side[1].Y[1]);
+          add_row_times(r, -angle_rate * sn, ei, 6, side[1].Y[2]);
+        }
+    }
+  return true;
+}
+} // namespace flextrack::multibody

@@ -44,6 +44,12 @@ public:
   void initial_own_coordinates(double *q, double *v) const override;
   std::vector<const Body *> bodies() const override { return {&markers[0]->body(), &markers[1]->body()}; }
   void evaluate(const std::vector<const double *> &q, const double *own_q, double t, JointEvaluation &e) const override;
+  /// Analytic where a marker has a body-fixed form (a point and frame on a body or at an
+  /// interface); a track contact's own second derivatives by differences of that marker alone.
+  /// False for two markers on one body.
+  bool derivatives(const std::vector<const double *> &q, const double *own_q, double t, const double *lambda,
+                   const double *mu, const std::vector<const double *> &v, const double *own_v,
+                   JointDerivatives &d) const override;
   /// Phi_t from the laws alone; the markers are evaluated only for a driven angle (whose Phi_t
   /// depends on the axes). A track contact's marker (curve, section frame, mode fields at s) is
   /// the costly one, and its driver, s = s(t), needs none of it.
@@ -86,6 +92,15 @@ private:
   };
   void evaluate_rows(const std::vector<const double *> &q, const double *own_q, double t, Local &l,
                      dealii::Vector<double> &phi, dealii::Vector<double> &phi_t) const;
+  /// Each row's value is a quadratic form in the 8 marker quantities x = (r_i, e_i[3], r_j,
+  /// e_j[3]): its gradient w.r.t. x_a is sum_b C_ab x_b. The non-zero C_ab of row @p r (a, b,
+  /// C_ab; symmetric), for the drive angle @p angle [rad] at the time.
+  struct HessianTerm
+  {
+    unsigned int a, b;
+    double c;
+  };
+  void row_hessian(unsigned int r, double angle, std::vector<HessianTerm> &terms) const;
   /// Own coordinates of marker @p m within the joint's (nullptr if it has none).
   const double *own_of(unsigned int m, const double *own_q) const;
 

@@ -29,6 +29,17 @@ struct JointEvaluation
   dealii::FullMatrix<double> B_own;            ///< m x n_own_coordinates()
 };
 
+/// Second derivatives of a joint, for the DAE Jacobian (system_jacobian.cc). Rows run over the
+/// velocity coordinates v of the bodies of bodies() in order (the ground has none), then the
+/// joint's own coordinates; columns over their position coordinates q = (R, p, eta), then the
+/// joint's own coordinates. B here is the whole of it: the bodies' blocks and B_own.
+struct JointDerivatives
+{
+  dealii::FullMatrix<double> lambda_q; ///< d(B^T lambda)/dq at fixed lambda
+  dealii::FullMatrix<double> mu_q;     ///< d(B^T mu)/dq at fixed mu
+  dealii::FullMatrix<double> rate_q;   ///< d(B v + Phi_t)/dq at fixed v: m rows
+};
+
 class Joint
 {
 public:
@@ -50,6 +61,16 @@ public:
   /// @p q: coordinates of each body of bodies() (nullptr for the ground).
   virtual void evaluate(const std::vector<const double *> &q, const double *own_q, double t,
                         JointEvaluation &e) const = 0;
+  /// Second derivatives (JointDerivatives) for multipliers @p lambda and @p mu (all m equations;
+  /// dropped ones zero), body velocities @p v (per body of bodies(), nullptr for the ground) and
+  /// own velocities @p own_v. Returns false where the joint has none (the system then takes
+  /// central differences of the joint's whole residual): the default.
+  virtual bool derivatives(const std::vector<const double *> & /*q*/, const double * /*own_q*/, double /*t*/,
+                           const double * /*lambda*/, const double * /*mu*/, const std::vector<const double *> & /*v*/,
+                           const double * /*own_v*/, JointDerivatives & /*d*/) const
+  {
+    return false;
+  }
   /// Phi_t alone (all m equations; zero where not driven): what the power of the drivers'
   /// reactions needs at every step (Monitors). The default evaluates everything.
   virtual void driver_rates(const std::vector<const double *> &q, const double *own_q, double t,

@@ -13,6 +13,22 @@ FixedMarker::FixedMarker(const Body &body, std::string name, const Point<3> &poi
 {
   if (phi.m() == 0) phi.reinit(6, body.n_modes());
   Assert(phi.n() == body.n_modes(), ExcMessage("interface modes do not match the body's modes"));
+  // z = x0 + Phi_u eta for the position; b_c = a0_c + theta x a0_c = a0_c - a0_c~ Phi_th eta
+  // for axis c (as evaluate() below).
+  const unsigned int n = phi.n();
+  form.z0[0] = Vector3(x0);
+  form.Z[0].reinit(3, n);
+  for (unsigned int a = 0; a < 3; ++a)
+    for (unsigned int m = 0; m < n; ++m) form.Z[0](a, m) = phi(a, m);
+  for (unsigned int c = 0; c < 3; ++c)
+    {
+      for (unsigned int b = 0; b < 3; ++b) form.z0[1 + c][b] = a0[b][c];
+      const Matrix3 a_skew = skew(form.z0[1 + c]);
+      form.Z[1 + c].reinit(3, n);
+      for (unsigned int a = 0; a < 3; ++a)
+        for (unsigned int m = 0; m < n; ++m)
+          for (unsigned int b = 0; b < 3; ++b) form.Z[1 + c](a, m) -= a_skew[a][b] * phi(3 + b, m);
+    }
 }
 
 void FixedMarker::evaluate(const double *q, const double *, MarkerKinematics &k) const

@@ -29,6 +29,17 @@ struct MarkerKinematics
   std::array<dealii::FullMatrix<double>, 3> J_axes;
 };
 
+/// A marker whose position and axes are all of the form  y = delta R + A(p) z(eta)  with
+/// z = z0 + Z eta, z0 and Z constant (delta = 1 for the position, 0 for an axis): a point and
+/// frame fixed on a rigid body or at an interface of a flexible one. Its velocities are then
+/// y' = delta R' + A (omega x z + Z eta'), and every second derivative that an analytic joint
+/// Jacobian needs follows from z0 and Z (generic_joint.cc).
+struct BodyFixedForm
+{
+  std::array<Vector3, 4> z0;                  ///< position x0 [m], then the axes a0_c, body axes
+  std::array<dealii::FullMatrix<double>, 4> Z; ///< 3 x n_modes: Phi_u, then -a0_c~ Phi_th
+};
+
 class Marker
 {
 public:
@@ -42,6 +53,9 @@ public:
   virtual void initial_own_coordinates(double * /*q*/, double * /*v*/) const {}
   /// Position, axes and Jacobians for body coordinates @p q, and own coordinates @p own.
   virtual void evaluate(const double *q, const double *own, MarkerKinematics &k) const = 0;
+  /// Its body-fixed form, if it has one (see BodyFixedForm); nullptr otherwise (a track contact,
+  /// whose z depends on its arc length too).
+  virtual const BodyFixedForm *body_fixed_form() const { return nullptr; }
 
 private:
   const Body *on;
@@ -57,6 +71,7 @@ public:
   FixedMarker(const Body &body, std::string name, const dealii::Point<3> &point, const Matrix3 &frame,
               const dealii::FullMatrix<double> &modes = dealii::FullMatrix<double>());
   void evaluate(const double *q, const double *own, MarkerKinematics &k) const override;
+  const BodyFixedForm *body_fixed_form() const override { return &form; }
 
   /// A marker at the global position @p position with global axes @p axes (columns) at the body's
   /// coordinates @p q (its initial pose): transformed into body axes. On a flexible body
@@ -70,5 +85,6 @@ private:
   dealii::Point<3> x0;
   Matrix3 a0;                      ///< columns: axes in body axes
   dealii::FullMatrix<double> phi;  ///< 6 x n
+  BodyFixedForm form;              ///< the same, as z0 and Z (set once)
 };
 } // namespace flextrack::multibody

@@ -15,10 +15,11 @@
 //
 // The Jacobian dF/dy + alpha dF/dy' is assembled element by element (bodies, joints, forces)
 // into an Epetra_CrsMatrix on an Epetra_SerialComm (no MPI needed) whose pattern is fixed once:
-// alpha M, Phi_q, Phi_q^T and B^T are analytic; the derivatives of M v' - Q and of the
-// multiplier terms w.r.t. q and v are central differences of each element's own residual
-// (element-local, so a column costs one element evaluation, not a system one). It is factorised
-// by KLU or LAPACK's dense LU (jacobian_solver.h).
+// the bodies' blocks, alpha M, Phi_q, Phi_q^T, B^T and the joints' multiplier terms' derivatives
+// w.r.t. q are analytic (a track contact's marker contributes differences of itself alone);
+// the forces' derivatives are central differences of each force's own residual (element-local,
+// so a column costs one element evaluation, not a system one). It is factorised by KLU or
+// LAPACK's dense LU (jacobian_solver.h).
 #pragma once
 
 #include <multibody/body.h>
@@ -126,6 +127,9 @@ public:
   /// x = J^{-1} b (after factorize()); x and b may alias.
   void solve(const double *b, double *x);
   unsigned long n_jacobian_evaluations() const { return jacobian_count; }
+  /// Take every joint's derivatives by central differences of its residual, also where the
+  /// joint has analytic ones (Joint::derivatives): the test oracle for those.
+  void use_joint_differences(bool differences) { joint_differences = differences; }
 
   // Pieces for initial conditions, monitors, linearisation (all in v-coordinates, dense)
   void mass_matrix(const dealii::Vector<double> &y, dealii::FullMatrix<double> &M) const;
@@ -224,6 +228,9 @@ private:
                  const dealii::FullMatrix<double> &block);
   void element_differences(unsigned int kind, unsigned int index, double t, const dealii::Vector<double> &y,
                            const dealii::Vector<double> &yp);
+  /// Joint @p j's block from its analytic derivatives (Joint::derivatives); false (nothing
+  /// added) where it has none.
+  bool analytic_joint_block(unsigned int j, double t, const dealii::Vector<double> &y);
   /// Body @p b's rows of the Jacobian, analytic (Body::equation_jacobians).
   void body_jacobian(unsigned int b, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
 
@@ -245,5 +252,6 @@ private:
   /// along it, what the free force balance leaves [N].
   double stop_force(unsigned int j, unsigned int coordinate, double t, const dealii::Vector<double> &y) const;
   unsigned long jacobian_count = 0;
+  bool joint_differences = false;
 };
 } // namespace flextrack::multibody

@@ -4,10 +4,12 @@
 //    derivatives in q, v and v' (geometric stiffening depends on the frame accelerations) - and
 //    the normalisation |p|^2 - 1;
 //  - joints and forces: alpha on the joints' own q', Phi_q^T on mu, B^T on lambda and Phi_q in the
-//    position-constraint rows analytic; the derivatives of the joint and force terms in q (and in
-//    the joints' own velocities) by central differences of each element's residual w.r.t. the
-//    entries it reads, step h = 1e-6 (1 + |y_c|): truncation O(h^2 y''') and rounding
-//    O(eps / h), both near 1e-10 relative.
+//    position-constraint rows analytic; the derivatives of the joint terms in q analytic where the
+//    joint has them (Joint::derivatives: generic joints between points and frames on bodies or
+//    at interfaces); otherwise, and for forces, those derivatives (and those in the joints' own
+//    velocities) by central differences of each element's residual w.r.t. the entries it reads,
+//    step h = 1e-6 (1 + |y_c|): truncation O(h^2 y''') and rounding O(eps / h), both near 1e-10
+//    relative.
 #include <multibody/jacobian_solver.h>
 #include <multibody/system.h>
 
@@ -95,6 +97,122 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
   add_local(e.rows, e.columns, block);
 }
 
+bool System::analytic_joint_block(const unsigned int j, const double t, const Vector<double> &y)
+{
+  if (joint_differences) return false;
+  const JointSlot &s = joints[j];
+  const ElementIndices &e = joint_elements[j];
+  const unsigned int l0 = nq + nv, m0 = nq + nv + nlambda, m = s.active.size(), n_own = s.joint->n_own_coordinates();
+  thread_local std::vector<double> lambda, mu;
+  lambda.assign(s.joint->n_equations(), 0.0);
+  mu.assign(s.joint->n_equations(), 0.0);
+  for (unsigned int r = 0; r < m; ++r)
+    lambda[s.active[r]] = y[l0 + s.multiplier + r], mu[s.active[r]] = y[m0 + s.multiplier + r];
+  std::vector<const double *> v;
+  for (const unsigned int b : s.body_index) v.push_back(v_of(b, y));
+  const std::vector<const double *> q = joint_q(j, y);
+  const double *own_q = n_own ? y.begin() + s.own_q : nullptr, *own_v = n_own ? y.begin() + nq + s.own_v : nullptr;
+  thread_local JointDerivatives d;
+  if (!s.joint->derivatives(q, own_q, t, lambda.data(), mu.data(), v, own_v, d)) return false;
+  thread_local JointEvaluation ev;
+  s.joint->evaluate(q, own_q, t, ev);
+
+  // Rows: q (bodies, own), v (bodies, own), lambda, mu; columns: q, v (joint_elements), with
+  // n_q and n_v counting the own coordinates. The derivatives' rows are v (bodies, own), their
+  // columns q (bodies, own): the same order.
+  unsigned int n_q = n_own, n_v = n_own;
+  for (const unsigned int b : s.body_index) n_q += bodies[b].body->n_q(), n_v += bodies[b].body->n_v();
+  FullMatrix<double> block(e.rows.size(), e.columns.size());
+  unsigned int qo = 0, vo = 0;
+  for (unsigned int k = 0; k < s.body_index.size(); ++k)
+    {
+      const Body &body = *bodies[s.body_index[k]].body;
+      const unsigned int nq_b = body.n_q(), nv_b = body.n_v();
+      if (nv_b == 0) continue; // the ground
+      const double *x = q[k];
+      const auto G = geometry::body_velocity_matrix({{x[3], x[4], x[5], x[6]}});
+      const double p2 = x[3] * x[3] + x[4] * x[4] + x[5] * x[5] + x[6] * x[6];
+      // q rows: Phi_q^T mu = T^+^T B^T mu (T^+: R, 2 G / |p|^2, eta), so d/dq = T^+^T d(B^T mu)/dq
+      // and the derivative of T^+ itself at fixed f = B^T mu (its omega part: G is linear in p).
+      for (unsigned int c = 0; c < n_q; ++c)
+        {
+          for (unsigned int a = 0; a < 3; ++a) block(qo + a, c) = d.mu_q(vo + a, c);
+          for (unsigned int i = 0; i < 4; ++i)
+            block(qo + 3 + i, c) =
+              2 / p2 * (G[0][i] * d.mu_q(vo + 3, c) + G[1][i] * d.mu_q(vo + 4, c) + G[2][i] * d.mu_q(vo + 5, c));
+          for (unsigned int i = 0; i < nq_b - 7; ++i) block(qo + 7 + i, c) = d.mu_q(vo + 6 + i, c);
+          for (unsigned int i = 0; i < nv_b; ++i) block(n_q + vo + i, c) = d.lambda_q(vo + i, c); // B^T lambda
+        }
+      Vector3 f; // omega part of B^T mu
+      for (unsigned int r = 0; r < m; ++r)
+        for (unsigned int l = 0; l < 3; ++l) f[l] += ev.B[k](s.active[r], 3 + l) * mu[s.active[r]];
+      for (unsigned int i = 0; i < 4; ++i)
+        {
+          geometry::EulerParameters unit{{0, 0, 0, 0}};
+          unit[i] = 1;
+          const auto G_i = geometry::body_velocity_matrix(unit);
+          for (unsigned int r = 0; r < 4; ++r)
+            block(qo + 3 + r, qo + 3 + i) += 2 / p2 * (G_i[0][r] * f[0] + G_i[1][r] * f[1] + G_i[2][r] * f[2]) -
+                                             4 * x[3 + i] / (p2 * p2) * (G[0][r] * f[0] + G[1][r] * f[1] + G[2][r] * f[2]);
+        }
+      qo += nq_b, vo += nv_b;
+    }
+  if (n_own)
+    {
+      // Own q rows: B_own^T mu + s' - v_s; own v rows: B_own^T lambda - Q_own(s, v_s, t), or
+      // v_s = 0 where an end stop holds it. Q_own by central differences (a few scalars).
+      std::vector<double> applied, dissipative;
+      std::vector<std::vector<double>> dQ(2 * n_own); // d Q_own / d(own q, own v), per column
+      Vector<double> yy(y);
+      for (unsigned int c = 0; c < 2 * n_own; ++c)
+        {
+          const unsigned int col = c < n_own ? s.own_q + c : nq + s.own_v + c - n_own;
+          const double h = 1e-6 * (1 + std::abs(y[col]));
+          dQ[c].assign(n_own, 0.0);
+          for (const double sign : {1.0, -1.0})
+            {
+              yy[col] = y[col] + sign * h;
+              own_forces(j, t, yy, applied, dissipative);
+              for (unsigned int i = 0; i < n_own; ++i) dQ[c][i] += sign * (applied[i] + dissipative[i]) / (2 * h);
+            }
+          yy[col] = y[col];
+        }
+      for (unsigned int i = 0; i < n_own; ++i)
+        {
+          const unsigned int q_row = n_q - n_own + i, v_row = n_q + n_v - n_own + i;
+          for (unsigned int c = 0; c < n_q; ++c)
+            {
+              block(q_row, c) = d.mu_q(n_v - n_own + i, c);
+              block(v_row, c) = d.lambda_q(n_v - n_own + i, c);
+            }
+          block(q_row, n_q + n_v - n_own + i) = -1; // - v_s
+          for (unsigned int k = 0; k < n_own; ++k)
+            {
+              block(v_row, n_q - n_own + k) -= dQ[k][i];
+              block(v_row, n_q + n_v - n_own + k) -= dQ[n_own + k][i];
+            }
+          if (velocity_held(s.own_v + i))
+            {
+              for (unsigned int c = 0; c < e.columns.size(); ++c) block(v_row, c) = 0;
+              block(v_row, n_q + n_v - n_own + i) = 1;
+            }
+        }
+    }
+  // lambda rows: d(B v + Phi_t)/dq, and B, B_own in the v columns.
+  for (unsigned int r = 0; r < m; ++r)
+    {
+      for (unsigned int c = 0; c < n_q; ++c) block(n_q + n_v + r, c) = d.rate_q(s.active[r], c);
+      unsigned int c = n_q;
+      for (unsigned int k = 0; k <= s.body_index.size(); ++k)
+        {
+          const FullMatrix<double> &B = k == s.body_index.size() ? ev.B_own : ev.B[k];
+          for (unsigned int i = 0; i < B.n(); ++i, ++c) block(n_q + n_v + r, c) = B(s.active[r], i);
+        }
+    }
+  add_local(e.rows, e.columns, block);
+  return true;
+}
+
 void System::body_jacobian(const unsigned int b, const double alpha, const Vector<double> &y, const Vector<double> &yp)
 {
   const BodySlot &s = bodies[b];
@@ -175,7 +293,7 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
   for (unsigned int b = 1; b < bodies.size(); ++b) body_jacobian(b, alpha, y, yp);
   for (unsigned int j = 0; j < joints.size(); ++j)
     {
-      element_differences(joint_element, j, t, y, yp);
+      if (!analytic_joint_block(j, t, y)) element_differences(joint_element, j, t, y, yp);
       const JointSlot &s = joints[j];
       const ElementIndices &e = joint_elements[j];
       const unsigned int m = s.active.size(), n_own = s.joint->n_own_coordinates();

@@ -12,11 +12,9 @@
 // v', where central differences are exact for any step: there h = 1e-2 (1 + |x|), so that the
 // rounding of the large elastic force in F (eps |K eta| / h) stays small.
 // Tolerance (issue 24's acceptance): 1e-7 of the largest entry of each block.
-#include <fem/body_model.h>
-#include <io/body_scene.h>
+#include "curved_arm_body.h"
+
 #include <multibody/body.h>
-#include <reduction/component_modes.h>
-#include <reduction/reduced_body_builder.h>
 
 #include <gtest/gtest.h>
 
@@ -29,23 +27,6 @@ using dealii::FullMatrix;
 
 namespace
 {
-std::shared_ptr<const reduction::ReducedBody> curved_arm(const bool geometric_stiffness)
-{
-  const std::string text =
-    "set Model = body\nsubsection Body\n set Solid = false\n set Arms = arc\n"
-    " set Interfaces = root: arm arc at 0; tip: arm arc at 0.6\n set Point masses = tip: 0.3, 2e-5, 3e-5, 4e-5\nend\n"
-    "subsection Arm arc\n subsection Curve\n  set Kind = arc\n  subsection Arc\n   set Radius = 0.4\n"
-    "   set Angle = 1.5\n  end\n end\n subsection Cross section\n  set Shape = rectangle\n  set Width = 0.03\n"
-    "  set Height = 0.02\n end\n subsection Mesh\n  set Number of elements = 8\n end\nend\n"
-    "subsection Reduction\n set Method = free interface\n set Number of normal modes = 5\n"
-    " set Damping ratio = 0.02\n set Geometric stiffness = " +
-    std::string(geometric_stiffness ? "true" : "false") + "\nend\n";
-  const auto scene = io::read_body_scene_from_string(text);
-  const fem::BodyModel model(scene.body);
-  return std::make_shared<reduction::ReducedBody>(
-    reduction::make_reduced_body(model, reduction::reduce(model, scene.reduction), scene.reduction.method_name()));
-}
-
 /// F = M(q) v' - Q(q, v, v') less the linear elastic force K eta: the stiffness entries are
 /// orders of magnitude above the inertia terms, which would hide in a tolerance relative to them
 /// (K itself is read from the reduced body file unchanged; its column is removed from the
@@ -144,7 +125,7 @@ TEST(MultibodyBodyJacobian, rigid_body_equations_match_central_differences)
 
 TEST(MultibodyBodyJacobian, flexible_body_equations_match_central_differences)
 {
-  const auto stiffened = curved_arm(true), plain = curved_arm(false);
+  const auto stiffened = test::curved_arm(true), plain = test::curved_arm(false);
   ASSERT_FALSE(stiffened->geometric_stiffness.empty());
   ASSERT_EQ(stiffened->damping.m(), stiffened->n_modes());
   FlexibleOptions off;

@@ -1,0 +1,268 @@
+// Issue 24, item 1: the analytic second derivatives of the generic joint
+// (GenericJoint::derivatives: d(B^T lambda)/dq, d(B^T mu)/dq, d(B v + Phi_t)/dq) against central
+// differences of B^T w and B v + Phi_t from Joint::evaluate, per joint kind, at random states:
+// Euler parameters off the unit sphere, modal coordinates, velocities and multipliers far from
+// any solution. Bodies: two flexible curved arms (interfaces with translation and rotation mode
+// shapes), a rigid block and the ground; track joints on the arms (contacts at random arc
+// lengths, whose second derivatives come from differences of the track marker alone). Then the assembled DAE Jacobian with the analytic
+// joints against the one with every joint by differences (System::use_joint_differences).
+// Reference: central differences, h = 1e-6 (1 + |q_c|): truncation h^2 (third derivatives) and
+// rounding eps |B| / h, both about 1e-10 of the largest entry here.
+// Tolerance (issue 24's acceptance): 1e-7 of the largest entry of each block.
+#include "curved_arm_body.h"
+#include "multibody_test_helpers.h"
+
+#include <multibody/generic_joint.h>
+
+#include <Epetra_CrsMatrix.h>
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <random>
+
+using namespace flextrack;
+using namespace flextrack::multibody;
+using dealii::FullMatrix;
+using dealii::Vector;
+
+namespace
+{
+struct JointCase
+{
+  std::string kind, body1, body2, interface1, interface2, driver;
+  std::string sliding = "", arm = "", arm_1 = "", sliding_1 = "", driver_1 = "";
+};
+
+const std::vector<JointCase> cases = {
+  {"revolute", "arm1", "ground", "root", "", "0.3*sin(2*t) + t"}, // driven angle
+  {"fixed", "arm2", "arm1", "root", "tip", ""},
+  {"prismatic", "block", "arm1", "", "tip", "0.1*t^2"},            // driven displacement
+  {"spherical", "block", "arm2", "", "tip", ""},
+  {"cylindrical", "arm2", "block", "tip", "", ""},
+  {"universal", "arm1", "arm2", "tip", "root", ""},
+  {"planar", "block", "ground", "", "", ""},
+  {"point_in_plane", "arm2", "ground", "tip", "", ""},
+  {"revolute", "block", "arm2", "", "tip", ""},
+  // Track joints: a contact at arc length s on arm 'arc' of body 2 (own coordinate s).
+  {"prismatic_on_track", "block", "arm1", "", "", "0.2 + 0.1*t", "motion", "arc"},
+  {"point_on_track", "arm2", "arm1", "tip", "", "", "free", "arc"},
+  {"cylindrical_on_track", "block", "arm2", "", "", "2*sin(t)", "force", "arc"},
+  {"double_arm_sleeve", "arm2", "arm1", "", "", "", "free", "arc", "arc", "force", "3*t"},
+};
+
+void build(System &s)
+{
+  const auto arm = flextrack::test::curved_arm(false);
+  // Both arms where they were reduced: the sleeve's two contacts then meet at equal arc lengths.
+  s.add_body(std::make_unique<FloatingBody>("arm1", arm, FlexibleOptions(), InitialState()));
+  s.add_body(std::make_unique<FloatingBody>("arm2", arm, FlexibleOptions(), InitialState()));
+  Matrix3 inertia;
+  inertia[0][0] = 0.02, inertia[1][1] = 0.03, inertia[2][2] = 0.04;
+  multibody::test::add_rigid(s, "block", 1.5, inertia, Vector3({0.4, 0.1, -0.2}));
+  for (unsigned int k = 0; k < cases.size(); ++k)
+    {
+      const JointCase &c = cases[k];
+      dealii::ParameterHandler prm;
+      declare_joint_parameters(prm);
+      prm.set("Kind", c.kind);
+      prm.set("Body 1", c.body1);
+      prm.set("Body 2", c.body2);
+      prm.set("Interface 1", c.interface1);
+      prm.set("Interface 2", c.interface2);
+      prm.set("Position", "0.3, 0.2, 0.1");
+      prm.set("Axis", "0.2, 0.3, 1");
+      prm.set("Driver", c.driver);
+      if (!c.arm.empty())
+        {
+          prm.set("Arm", c.arm);
+          prm.set("Sliding", c.sliding);
+          prm.set("Friction", "3");
+          if (c.sliding != "motion") prm.set("Start arc length", "0.3");
+        }
+      if (!c.arm_1.empty())
+        {
+          prm.set("Arm 1", c.arm_1);
+          prm.set("Sliding 1", c.sliding_1);
+          prm.set("Driver 1", c.driver_1);
+          prm.set("Friction 1", "2");
+          prm.set("Start arc length 1", "0.3");
+        }
+      s.add_joint(create_joint("j" + std::to_string(k), prm, s.body_lookup()));
+    }
+}
+
+/// A random state of each body (R, p with |p| != 1, eta, v), then the joint's own coordinates
+/// (a contact's s and s').
+struct BodyState
+{
+  std::vector<double> q, v;
+};
+
+/// B^T w (per body, then own coordinates, concatenated) and B v + Phi_t at @p state.
+void joint_terms(const Joint &joint, const std::vector<BodyState> &state, const double t, const std::vector<double> &w,
+                 std::vector<double> &Btw, std::vector<double> &rate)
+{
+  const unsigned int n_bodies = joint.bodies().size();
+  std::vector<const double *> q;
+  for (unsigned int b = 0; b < n_bodies; ++b) q.push_back(state[b].q.empty() ? nullptr : state[b].q.data());
+  const BodyState &own = state[n_bodies];
+  JointEvaluation e;
+  joint.evaluate(q, own.q.empty() ? nullptr : own.q.data(), t, e);
+  Btw.clear();
+  rate.assign(e.phi.size(), 0.0);
+  for (unsigned int r = 0; r < e.phi.size(); ++r) rate[r] = e.phi_t[r];
+  for (unsigned int b = 0; b <= n_bodies; ++b)
+    {
+      const FullMatrix<double> &B = b < n_bodies ? e.B[b] : e.B_own;
+      for (unsigned int c = 0; c < B.n(); ++c)
+        {
+          double sum = 0;
+          for (unsigned int r = 0; r < e.phi.size(); ++r)
+            {
+              sum += B(r, c) * w[r];
+              rate[r] += B(r, c) * state[b].v[c];
+            }
+          Btw.push_back(sum);
+        }
+    }
+}
+
+/// Largest |analytic - central difference| over the largest entry, of each derivative.
+struct Deviation
+{
+  double lambda = 0, mu = 0, rate = 0;
+};
+
+Deviation compare(const Joint &joint, const unsigned int seed, const double t)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<BodyState> state;
+  for (const Body *b : joint.bodies())
+    {
+      BodyState s;
+      s.q.resize(b->n_q()), s.v.resize(b->n_v());
+      if (b->n_q())
+        {
+          for (unsigned int i = 0; i < 3; ++i) s.q[i] = 0.5 * u(rng);
+          for (unsigned int i = 3; i < 7; ++i) s.q[i] = 0.6 * u(rng);
+          for (unsigned int i = 7; i < b->n_q(); ++i) s.q[i] = 0.05 * u(rng);
+          for (unsigned int i = 0; i < b->n_v(); ++i) s.v[i] = 2 * u(rng);
+        }
+      state.push_back(s);
+    }
+  BodyState own; // arc lengths within the arm (0.6 m long), sliding speeds
+  for (unsigned int i = 0; i < joint.n_own_coordinates(); ++i)
+    own.q.push_back(0.3 + 0.15 * u(rng)), own.v.push_back(u(rng));
+  state.push_back(own);
+  const unsigned int m = joint.n_equations();
+  std::vector<double> lambda(m), mu(m);
+  for (unsigned int r = 0; r < m; ++r) lambda[r] = 10 * u(rng), mu[r] = 10 * u(rng);
+
+  std::vector<const double *> q, v;
+  for (unsigned int b = 0; b + 1 < state.size(); ++b)
+    q.push_back(state[b].q.empty() ? nullptr : state[b].q.data()), v.push_back(state[b].v.empty() ? nullptr : state[b].v.data());
+  JointDerivatives d;
+  EXPECT_TRUE(joint.derivatives(q, own.q.empty() ? nullptr : state.back().q.data(), t, lambda.data(), mu.data(), v,
+                                own.v.empty() ? nullptr : state.back().v.data(), d))
+    << joint.name();
+
+  double worst[3] = {0, 0, 0}, largest[3] = {0, 0, 0};
+  unsigned int column = 0;
+  for (BodyState &b : state)
+    for (unsigned int c = 0; c < b.q.size(); ++c, ++column)
+      {
+        const double x0 = b.q[c], h = 1e-6 * (1 + std::abs(x0));
+        std::vector<double> lp, lm, mp, mm, rp, rm;
+        b.q[c] = x0 + h;
+        joint_terms(joint, state, t, lambda, lp, rp);
+        joint_terms(joint, state, t, mu, mp, rp);
+        b.q[c] = x0 - h;
+        joint_terms(joint, state, t, lambda, lm, rm);
+        joint_terms(joint, state, t, mu, mm, rm);
+        b.q[c] = x0;
+        const auto check = [&](const unsigned int k, const std::vector<double> &p, const std::vector<double> &n,
+                               const FullMatrix<double> &analytic) {
+          for (unsigned int r = 0; r < p.size(); ++r)
+            {
+              const double fd = (p[r] - n[r]) / (2 * h);
+              largest[k] = std::max(largest[k], std::abs(fd));
+              worst[k] = std::max(worst[k], std::abs(fd - analytic(r, column)));
+            }
+        };
+        check(0, lp, lm, d.lambda_q);
+        check(1, mp, mm, d.mu_q);
+        check(2, rp, rm, d.rate_q);
+      }
+  return {worst[0] / largest[0], worst[1] / largest[1], worst[2] / largest[2]};
+}
+
+double entry(const Epetra_CrsMatrix &A, const int row, const int col)
+{
+  int n = 0;
+  std::vector<double> values(A.NumGlobalCols());
+  std::vector<int> cols(A.NumGlobalCols());
+  A.ExtractGlobalRowCopy(row, values.size(), n, values.data(), cols.data());
+  for (int k = 0; k < n; ++k)
+    if (cols[k] == col) return values[k];
+  return 0;
+}
+} // namespace
+
+TEST(MultibodyJointDerivatives, generic_joints_match_central_differences_per_kind)
+{
+  System s(Vector3({0, 0, -9.81}));
+  build(s);
+  for (unsigned int j = 0; j < s.n_joints(); ++j)
+    for (const unsigned int seed : {1u, 2u, 3u})
+      {
+        const Deviation d = compare(s.joint(j), 10 * j + seed, 0.7);
+        std::cout << "  " << cases[j].kind << " (" << cases[j].body1 << ", " << cases[j].body2 << "), state " << seed
+                  << ": |D - D_fd| / max |D_fd|: d(B^T lambda)/dq " << d.lambda << ", d(B^T mu)/dq " << d.mu
+                  << ", d(B v + Phi_t)/dq " << d.rate << "\n";
+        EXPECT_LT(d.lambda, 1e-7) << cases[j].kind;
+        EXPECT_LT(d.mu, 1e-7) << cases[j].kind;
+        EXPECT_LT(d.rate, 1e-7) << cases[j].kind;
+      }
+}
+
+TEST(MultibodyJointDerivatives, assembled_jacobian_equals_the_one_by_joint_differences)
+{
+  System s(Vector3({0, 0, -9.81}));
+  build(s);
+  s.finalize();
+  Vector<double> y, yp;
+  s.initial_guess(y);
+  yp.reinit(y.size());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (unsigned int i = 0; i < y.size(); ++i) y[i] += 0.05 * u(rng), yp[i] = 0.5 * u(rng);
+  for (unsigned int i = s.n_q() + s.n_v(); i < y.size(); ++i) y[i] = 10 * u(rng); // multipliers
+  const double t = 0.7, alpha = 0; // alpha 0: the q rows hold -T v and the joints' terms only
+  s.assemble_jacobian(t, alpha, y, yp);
+  const unsigned int n = y.size();
+  std::vector<double> analytic(n * n);
+  for (unsigned int r = 0; r < n; ++r)
+    for (unsigned int c = 0; c < n; ++c) analytic[r * n + c] = entry(s.jacobian(), r, c);
+  s.use_joint_differences(true);
+  s.assemble_jacobian(t, alpha, y, yp);
+  // Row by row: the largest difference in a row over the row's largest entry (the own
+  // coordinates' rows hold entries of order 1 beside modal entries of order 1e5 elsewhere).
+  double worst = 0;
+  unsigned int worst_row = 0;
+  for (unsigned int r = 0; r < n; ++r)
+    {
+      double difference = 0, largest = 0;
+      for (unsigned int c = 0; c < n; ++c)
+        {
+          const double fd = entry(s.jacobian(), r, c);
+          largest = std::max(largest, std::abs(fd));
+          difference = std::max(difference, std::abs(fd - analytic[r * n + c]));
+        }
+      if (largest > 0 && difference / largest > worst) worst = difference / largest, worst_row = r;
+    }
+  std::cout << "  Jacobian " << n << " x " << n << ": max over rows of max |J - J_fd| / max |J_fd| = " << worst
+            << " (row " << s.component_name(worst_row) << ")\n";
+  EXPECT_LT(worst, 1e-7);
+}
