@@ -31,6 +31,14 @@ public:
   /// Adds the generalised forces to @p Q[b] (v-coordinates of body b of bodies()).
   virtual void add_forces(const std::vector<const double *> &q, const std::vector<const double *> &v, double t,
                           const std::vector<double *> &Q) const = 0;
+  /// dQ/dq and dQ/dv of the generalised forces (rows: the v of bodies() in order; columns: their
+  /// q, resp. v), analytic. False where the force has none (the system then takes central
+  /// differences): the default, a marker not of body-fixed form, or both markers on one body.
+  virtual bool derivatives(const std::vector<const double *> & /*q*/, const std::vector<const double *> & /*v*/,
+                           double /*t*/, dealii::FullMatrix<double> & /*dQ_dq*/, dealii::FullMatrix<double> & /*dQ_dv*/) const
+  {
+    return false;
+  }
   virtual double potential_energy(const std::vector<const double *> &) const { return 0; }                      ///< [J]
   virtual double dissipation_power(const std::vector<const double *> &, const std::vector<const double *> &) const { return 0; } ///< [W]
   virtual double applied_power(const std::vector<const double *> &, const std::vector<const double *> &, double) const { return 0; } ///< [W]
@@ -53,6 +61,8 @@ public:
   void add_forces(const std::vector<const double *> &q, const std::vector<const double *> &v, double t,
                   const std::vector<double *> &Q) const override;
   double applied_power(const std::vector<const double *> &q, const std::vector<const double *> &v, double t) const override;
+  bool derivatives(const std::vector<const double *> &q, const std::vector<const double *> &v, double t,
+                   dealii::FullMatrix<double> &dQ_dq, dealii::FullMatrix<double> &dQ_dv) const override;
 
 private:
   void wrench(const MarkerKinematics &k, double t, Vector3 &F, Vector3 &T) const;
@@ -72,6 +82,8 @@ public:
                   const std::vector<double *> &Q) const override;
   double potential_energy(const std::vector<const double *> &q) const override;
   double dissipation_power(const std::vector<const double *> &q, const std::vector<const double *> &v) const override;
+  bool derivatives(const std::vector<const double *> &q, const std::vector<const double *> &v, double t,
+                   dealii::FullMatrix<double> &dQ_dq, dealii::FullMatrix<double> &dQ_dv) const override;
 
 private:
   /// Length, its rate, unit direction (from marker 2 to 1), kinematics.
@@ -92,6 +104,8 @@ public:
                   const std::vector<double *> &Q) const override;
   double potential_energy(const std::vector<const double *> &q) const override;
   double dissipation_power(const std::vector<const double *> &q, const std::vector<const double *> &v) const override;
+  bool derivatives(const std::vector<const double *> &q, const std::vector<const double *> &v, double t,
+                   dealii::FullMatrix<double> &dQ_dq, dealii::FullMatrix<double> &dQ_dv) const override;
 
 private:
   void state(const std::vector<const double *> &q, const std::vector<const double *> &v, double &angle, double &rate,

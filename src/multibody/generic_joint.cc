@@ -265,10 +265,7 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
   //                          w_a = sum_r w_r dPhi_r/dy_a,  H_a(w) = d(J_a^T w)/dq at fixed w
   //   d(B_r v + Phi_t)/dq  = sum_ab C_r,ab u_a^T Y_b + sum_a (dPhi_r/dy_a)^T V_a  (+ Phi_t's own),
   //                          V_a = d(J_a v)/dq at fixed v.
-  // H and V of a marker of body-fixed form (marker.h), with s = omega x z + Z eta',
-  // a = A^T w, c = 2 / |p|^2:
-  //   H(w): omega rows  c z~ a~ G (p columns), -a~ Z (eta columns); eta rows  c Z^T a~ G (p columns)
-  //   V:    -c A s~ G (p columns), A omega~ Z (eta columns).
+  // H and V of a marker of body-fixed form in closed form (BodyFixedDerivatives, marker.h).
   // Of any other marker (a track contact) from central differences of its own J over its
   // body's q and its own coordinates: one marker evaluation per step, not a joint's.
   if (&markers[0]->body() == &markers[1]->body()) return false;
@@ -287,13 +284,10 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
   {
     unsigned int nq = 0, nv = 0, n_own = 0, q0 = 0, v0 = 0, own0 = 0;
     const BodyFixedForm *form = nullptr;
-    Matrix3 A;
-    double c = 0; // 2 / |p|^2
-    std::array<std::array<double, 4>, 3> G;
-    Vector3 omega;
-    std::vector<double> v; // the body's velocities, then the marker's own
+    BodyFixedDerivatives fixed; // its V and H (a marker of body-fixed form on a moving body)
+    std::vector<double> v;      // the body's velocities, then the marker's own
     std::array<const FullMatrix<double> *, 4> J;
-    std::array<Vector3, 4> z, u, s;
+    std::array<Vector3, 4> u;
     std::array<FullMatrix<double>, 4> Y, V;
     std::array<std::vector<FullMatrix<double>>, 4> dJ; // dJ_a / dq_k (no body-fixed form)
   };
@@ -319,14 +313,12 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
       S.v.assign(S.nv + S.n_own, 0.0);
       for (unsigned int i = 0; i < S.nv; ++i) S.v[i] = v[m][i];
       for (unsigned int i = 0; i < S.n_own; ++i) S.v[S.nv + i] = own_v[S.own0 + i];
+      double c2 = 0; // 2 / |p|^2 and G(p): Y = J T^+
+      std::array<std::array<double, 4>, 3> G{};
       if (S.nv > 0)
         {
-          const double *x = q[m];
-          const geometry::EulerParameters p{{x[3], x[4], x[5], x[6]}};
-          S.A = geometry::rotation_matrix(p);
-          S.c = 2 / (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
-          S.G = geometry::body_velocity_matrix(p);
-          S.omega = Vector3({v[m][3], v[m][4], v[m][5]});
+          c2 = 2 / (q[m][3] * q[m][3] + q[m][4] * q[m][4] + q[m][5] * q[m][5] + q[m][6] * q[m][6]);
+          G = geometry::body_velocity_matrix({{q[m][3], q[m][4], q[m][5], q[m][6]}});
         }
       for (unsigned int a = 0; a < 4; ++a)
         {
@@ -342,7 +334,7 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
                 {
                   if (a == 0) Y(i, i) = 1;
                   for (unsigned int e = 0; e < 4; ++e)
-                    Y(i, 3 + e) = S.c * (J(i, 3) * S.G[0][e] + J(i, 4) * S.G[1][e] + J(i, 5) * S.G[2][e]);
+                    Y(i, 3 + e) = c2 * (J(i, 3) * G[0][e] + J(i, 4) * G[1][e] + J(i, 5) * G[2][e]);
                   for (unsigned int j = 7; j < S.nq; ++j) Y(i, j) = J(i, j - 1);
                 }
               for (unsigned int j = 0; j < S.n_own; ++j) Y(i, S.nq + j) = J(i, S.nv + j);
@@ -350,26 +342,13 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
         }
       if (S.form) // closed forms; such a marker has no own coordinates
         {
-          if (S.nv == 0) continue;
-          const unsigned int n = markers[m]->body().n_modes();
-          for (unsigned int a = 0; a < 4; ++a)
+          if (S.nv == 0) // the ground: nothing moves
             {
-              const FullMatrix<double> &Z = S.form->Z[a];
-              S.z[a] = S.form->z0[a];
-              Vector3 Z_etadot;
-              for (unsigned int i = 0; i < 3; ++i)
-                for (unsigned int j = 0; j < n; ++j) S.z[a][i] += Z(i, j) * q[m][7 + j], Z_etadot[i] += Z(i, j) * v[m][6 + j];
-              S.s[a] = cross_product_3d(S.omega, S.z[a]) + Z_etadot;
-              FullMatrix<double> &V = S.V[a];
-              V.reinit(3, S.nq);
-              const Matrix3 As = S.A * geometry::skew(S.s[a]), Aw = S.A * geometry::skew(S.omega);
-              for (unsigned int i = 0; i < 3; ++i)
-                {
-                  for (unsigned int e = 0; e < 4; ++e)
-                    V(i, 3 + e) = -S.c * (As[i][0] * S.G[0][e] + As[i][1] * S.G[1][e] + As[i][2] * S.G[2][e]);
-                  for (unsigned int j = 0; j < n; ++j) V(i, 7 + j) = Aw[i][0] * Z(0, j) + Aw[i][1] * Z(1, j) + Aw[i][2] * Z(2, j);
-                }
+              for (auto &V : S.V) V.reinit(3, 0);
+              continue;
             }
+          S.fixed.reinit(*S.form, markers[m]->body(), q[m], v[m], k);
+          for (unsigned int a = 0; a < 4; ++a) S.V[a] = S.fixed.V(a);
           continue;
         }
       // Central differences of the marker's J over its body's q and its own coordinates.
@@ -447,24 +426,7 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
               }
             continue;
           }
-        // H_a(w_a), closed form
-        const Matrix3 a_skew = geometry::skew(transpose(Sa.A) * w_a[a]);
-        const Matrix3 za = geometry::skew(Sa.z[a % 4]) * a_skew;
-        const FullMatrix<double> &Z = Sa.form->Z[a % 4];
-        const unsigned int n = Z.n();
-        for (unsigned int e = 0; e < 4; ++e)
-          {
-            Vector3 aG; // c a~ G e_e
-            for (unsigned int i = 0; i < 3; ++i)
-              for (unsigned int j = 0; j < 3; ++j) aG[i] += Sa.c * a_skew[i][j] * Sa.G[j][e];
-            for (unsigned int i = 0; i < 3; ++i)
-              D(Sa.v0 + 3 + i, Sa.q0 + 3 + e) += Sa.c * (za[i][0] * Sa.G[0][e] + za[i][1] * Sa.G[1][e] + za[i][2] * Sa.G[2][e]);
-            for (unsigned int j = 0; j < n; ++j)
-              D(Sa.v0 + 6 + j, Sa.q0 + 3 + e) += Z(0, j) * aG[0] + Z(1, j) * aG[1] + Z(2, j) * aG[2];
-          }
-        for (unsigned int i = 0; i < 3; ++i)
-          for (unsigned int j = 0; j < n; ++j)
-            D(Sa.v0 + 3 + i, Sa.q0 + 7 + j) -= a_skew[i][0] * Z(0, j) + a_skew[i][1] * Z(1, j) + a_skew[i][2] * Z(2, j);
+        Sa.fixed.add_H(a % 4, w_a[a], D, Sa.v0, Sa.q0); // H_a(w_a), closed form
       }
   };
   weighted(lambda, d.lambda_q);

@@ -50,7 +50,7 @@ std::vector<LinearMode> linearize(System &system, const double t, const Vector<d
   system.mass_matrix(y, M);
   system.constraints(t, y, false, phi, B, phi_t);
   // K = dR/dx and C = dR/dv: the velocity rows of the DAE Jacobian at (y, y'), which holds
-  // v'0 and lambda0 (analytic bodies; joints and forces differenced over their own columns).
+  // v'0 and lambda0 (analytic bodies, joints and forces: System::assemble_jacobian).
   velocity_row_tangents(system, t, y, yp, K, &C);
   const FullMatrix<double> N = constraint_null_space(B, nv);
   const unsigned int nf = N.n();

@@ -29,6 +29,77 @@ FixedMarker::FixedMarker(const Body &body, std::string name, const Point<3> &poi
         for (unsigned int m = 0; m < n; ++m)
           for (unsigned int b = 0; b < 3; ++b) form.Z[1 + c](a, m) -= a_skew[a][b] * phi(3 + b, m);
     }
+  form.Z_rotation.reinit(3, n);
+  for (unsigned int a = 0; a < 3; ++a)
+    for (unsigned int m = 0; m < n; ++m) form.Z_rotation(a, m) = phi(3 + a, m);
+}
+
+void BodyFixedDerivatives::reinit(const BodyFixedForm &form, const Body &body, const double *q, const double *v,
+                                  const MarkerKinematics &k)
+{
+  f = &form;
+  n = body.n_modes();
+  const unsigned int nq = body.n_q();
+  const geometry::EulerParameters p{{q[3], q[4], q[5], q[6]}};
+  A = geometry::rotation_matrix(p);
+  c = 2 / (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
+  G = geometry::body_velocity_matrix(p);
+  const Vector3 omega({v[3], v[4], v[5]});
+  const Matrix3 A_omega = A * skew(omega);
+  // -c A s~ G into the p columns of V
+  const auto p_columns = [&](const Vector3 &s, FullMatrix<double> &V) {
+    const Matrix3 As = A * skew(s);
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int e = 0; e < 4; ++e) V(i, 3 + e) = -c * (As[i][0] * G[0][e] + As[i][1] * G[1][e] + As[i][2] * G[2][e]);
+  };
+  for (unsigned int a = 0; a < 4; ++a)
+    {
+      const FullMatrix<double> &Z = form.Z[a];
+      const FullMatrix<double> &J = a == 0 ? k.J_position : k.J_axes[a - 1];
+      z[a] = form.z0[a];
+      Vector3 Z_etadot;
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int j = 0; j < n; ++j) z[a][i] += Z(i, j) * q[7 + j], Z_etadot[i] += Z(i, j) * v[6 + j];
+      y[a].reinit(3, nq);
+      velocity[a].reinit(3, nq);
+      p_columns(cross_product_3d(omega, z[a]) + Z_etadot, velocity[a]);
+      for (unsigned int i = 0; i < 3; ++i)
+        {
+          if (a == 0) y[a](i, i) = 1;
+          for (unsigned int e = 0; e < 4; ++e) y[a](i, 3 + e) = c * (J(i, 3) * G[0][e] + J(i, 4) * G[1][e] + J(i, 5) * G[2][e]);
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              y[a](i, 7 + j) = J(i, 6 + j);
+              velocity[a](i, 7 + j) = A_omega[i][0] * Z(0, j) + A_omega[i][1] * Z(1, j) + A_omega[i][2] * Z(2, j);
+            }
+        }
+    }
+  Vector3 s = omega; // omega + Phi_th eta'
+  for (unsigned int i = 0; i < 3; ++i)
+    for (unsigned int j = 0; j < n; ++j) s[i] += form.Z_rotation(i, j) * v[6 + j];
+  velocity[4].reinit(3, nq);
+  p_columns(s, velocity[4]);
+}
+
+void BodyFixedDerivatives::add_H(const unsigned int a, const Vector3 &w, FullMatrix<double> &D, const unsigned int row0,
+                                 const unsigned int col0) const
+{
+  const Matrix3 b_skew = skew(transpose(A) * w);
+  const FullMatrix<double> &Z = a < 4 ? f->Z[a] : f->Z_rotation;
+  // omega rows, p columns: c z~ b~ G (a < 4) or c b~ G (a = 4); eta rows, p columns: c Z^T b~ G
+  const Matrix3 M = a < 4 ? skew(z[a]) * b_skew : b_skew;
+  for (unsigned int e = 0; e < 4; ++e)
+    {
+      Vector3 bG; // c b~ G e_e
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int j = 0; j < 3; ++j) bG[i] += c * b_skew[i][j] * G[j][e];
+      for (unsigned int i = 0; i < 3; ++i)
+        D(row0 + 3 + i, col0 + 3 + e) += c * (M[i][0] * G[0][e] + M[i][1] * G[1][e] + M[i][2] * G[2][e]);
+      for (unsigned int j = 0; j < n; ++j) D(row0 + 6 + j, col0 + 3 + e) += Z(0, j) * bG[0] + Z(1, j) * bG[1] + Z(2, j) * bG[2];
+    }
+  if (a == 4) return; // J_rotation does not depend on eta
+  for (unsigned int i = 0; i < 3; ++i) // omega rows, eta columns: -b~ Z
+    for (unsigned int j = 0; j < n; ++j) D(row0 + 3 + i, col0 + 7 + j) -= b_skew[i][0] * Z(0, j) + b_skew[i][1] * Z(1, j) + b_skew[i][2] * Z(2, j);
 }
 
 void FixedMarker::evaluate(const double *q, const double *, MarkerKinematics &k) const

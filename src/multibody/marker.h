@@ -38,6 +38,36 @@ struct BodyFixedForm
 {
   std::array<Vector3, 4> z0;                  ///< position x0 [m], then the axes a0_c, body axes
   std::array<dealii::FullMatrix<double>, 4> Z; ///< 3 x n_modes: Phi_u, then -a0_c~ Phi_th
+  dealii::FullMatrix<double> Z_rotation;       ///< 3 x n_modes: Phi_th (omega_global = A (omega + Phi_th eta'))
+};
+
+/// Second-order kinematics of a marker of body-fixed form on a body that moves (not the ground),
+/// at positions q and velocities v of its body. Quantities a: 0 the position, 1-3 the axes,
+/// 4 the angular velocity (J_rotation). Columns: the body's q = (R, p, eta); rows of add_H: its
+/// v = (R', omega, eta'). With c = 2 / |p|^2, G = G(p) (omega = c G p' for the A of p / |p|):
+///   Y_a = dy_a/dq = J_a T^+                                          (a = 0..3)
+///   V_a = d(J_a v)/dq:  -c A s_a~ G (p columns), A omega~ Z_a (eta columns), s_a = omega x z_a + Z_a eta';
+///                       for a = 4: -c A s~ G with s = omega + Phi_th eta'
+///   H_a(w) = d(J_a^T w)/dq, b = A^T w:  omega rows  c z_a~ b~ G (p), -b~ Z_a (eta); eta rows  c Z_a^T b~ G (p);
+///                       for a = 4: omega rows c b~ G, eta rows c Phi_th^T b~ G (p columns).
+class BodyFixedDerivatives
+{
+public:
+  void reinit(const BodyFixedForm &form, const Body &body, const double *q, const double *v, const MarkerKinematics &k);
+  const dealii::FullMatrix<double> &Y(unsigned int a) const { return y[a]; }
+  const dealii::FullMatrix<double> &V(unsigned int a) const { return velocity[a]; }
+  /// D(row0 + i, col0 + k) += H_a(w)(i, k).
+  void add_H(unsigned int a, const Vector3 &w, dealii::FullMatrix<double> &D, unsigned int row0, unsigned int col0) const;
+
+private:
+  const BodyFixedForm *f = nullptr;
+  unsigned int n = 0;
+  Matrix3 A;
+  double c = 0;
+  std::array<std::array<double, 4>, 3> G;
+  std::array<Vector3, 4> z;
+  std::array<dealii::FullMatrix<double>, 4> y;
+  std::array<dealii::FullMatrix<double>, 5> velocity;
 };
 
 class Marker

@@ -6,8 +6,7 @@
 // and the tangent K_T = d r_f / dx along the velocity coordinates (positions move by
 // q += T(q) dx, System::move_positions). r_f is the velocity rows of the DAE residual at
 // v = v' = 0, so K_T = (dF_v / dq) T(q): the DAE Jacobian's velocity rows and position columns
-// (analytic for the bodies, differences of each joint and force over its own columns only:
-// System::assemble_jacobian) times T. That costs about as much as one Jacobian of the run, where
+// (analytic for the bodies, joints and forces: System::assemble_jacobian) times T. That costs about as much as one Jacobian of the run, where
 // differences of the whole residual over every velocity coordinate cost 2 n_v residuals (for
 // the laser robot with its full FE bases, n_v = 1145: 228 s of start-up, 2026-12-02).
 #pragma once

@@ -15,11 +15,11 @@
 //
 // The Jacobian dF/dy + alpha dF/dy' is assembled element by element (bodies, joints, forces)
 // into an Epetra_CrsMatrix on an Epetra_SerialComm (no MPI needed) whose pattern is fixed once:
-// the bodies' blocks, alpha M, Phi_q, Phi_q^T, B^T and the joints' multiplier terms' derivatives
-// w.r.t. q are analytic (a track contact's marker contributes differences of itself alone);
-// the forces' derivatives are central differences of each force's own residual (element-local,
-// so a column costs one element evaluation, not a system one). It is factorised by KLU or
-// LAPACK's dense LU (jacobian_solver.h).
+// the bodies', joints' and forces' blocks are analytic (a track contact's marker contributes
+// central differences of itself alone; system_jacobian.cc); an element without analytic
+// derivatives (two markers on one body) takes central differences of its own residual
+// (element-local, so a column costs one element evaluation, not a system one). It is factorised
+// by KLU or LAPACK's dense LU (jacobian_solver.h).
 #pragma once
 
 #include <multibody/body.h>
@@ -127,9 +127,9 @@ public:
   /// x = J^{-1} b (after factorize()); x and b may alias.
   void solve(const double *b, double *x);
   unsigned long n_jacobian_evaluations() const { return jacobian_count; }
-  /// Take every joint's derivatives by central differences of its residual, also where the
-  /// joint has analytic ones (Joint::derivatives): the test oracle for those.
-  void use_joint_differences(bool differences) { joint_differences = differences; }
+  /// Take every joint's and force's derivatives by central differences of its residual, also
+  /// where it has analytic ones (Joint::derivatives, Force::derivatives): the test oracle.
+  void use_element_differences(bool differences) { element_differences_only = differences; }
 
   // Pieces for initial conditions, monitors, linearisation (all in v-coordinates, dense)
   void mass_matrix(const dealii::Vector<double> &y, dealii::FullMatrix<double> &M) const;
@@ -231,6 +231,8 @@ private:
   /// Joint @p j's block from its analytic derivatives (Joint::derivatives); false (nothing
   /// added) where it has none.
   bool analytic_joint_block(unsigned int j, double t, const dealii::Vector<double> &y);
+  /// The same for force @p f (Force::derivatives).
+  bool analytic_force_block(unsigned int f, double t, const dealii::Vector<double> &y);
   /// Body @p b's rows of the Jacobian, analytic (Body::equation_jacobians).
   void body_jacobian(unsigned int b, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
 
@@ -252,6 +254,6 @@ private:
   /// along it, what the free force balance leaves [N].
   double stop_force(unsigned int j, unsigned int coordinate, double t, const dealii::Vector<double> &y) const;
   unsigned long jacobian_count = 0;
-  bool joint_differences = false;
+  bool element_differences_only = false;
 };
 } // namespace flextrack::multibody

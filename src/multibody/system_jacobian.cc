@@ -3,13 +3,15 @@
 //    q' - T(q) v + 2 p mu, the equations of motion M(q) v' - Q(q, v, v') - with their
 //    derivatives in q, v and v' (geometric stiffening depends on the frame accelerations) - and
 //    the normalisation |p|^2 - 1;
-//  - joints and forces: alpha on the joints' own q', Phi_q^T on mu, B^T on lambda and Phi_q in the
-//    position-constraint rows analytic; the derivatives of the joint terms in q analytic where the
-//    joint has them (Joint::derivatives: generic joints between points and frames on bodies or
-//    at interfaces); otherwise, and for forces, those derivatives (and those in the joints' own
-//    velocities) by central differences of each element's residual w.r.t. the entries it reads,
-//    step h = 1e-6 (1 + |y_c|): truncation O(h^2 y''') and rounding O(eps / h), both near 1e-10
-//    relative.
+//  - joints: alpha on the joints' own q', Phi_q^T on mu, B^T on lambda and Phi_q in the
+//    position-constraint rows, and the derivatives of Phi_q^T mu, B^T lambda and B v + Phi_t in
+//    the positions (Joint::derivatives, analytic_joint_block): closed forms for markers fixed on
+//    bodies or at interfaces, central differences of a track contact's marker alone for its own
+//    second derivatives; a contact's own forces (drive, friction) by differences of those scalars;
+//  - forces: dQ/dq and dQ/dv analytic (Force::derivatives, analytic_force_block);
+//  - an element without analytic derivatives (two markers on one body) by central differences of
+//    its residual w.r.t. the entries it reads, step h = 1e-6 (1 + |y_c|): truncation O(h^2 y''')
+//    and rounding O(eps / h), both near 1e-10 relative.
 #include <multibody/jacobian_solver.h>
 #include <multibody/system.h>
 
@@ -80,6 +82,10 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
     {
       if (analytic[c]) continue;
       const unsigned int col = e.columns[c];
+      // An element on two markers of one body lists that body's columns twice: the first
+      // difference holds the whole derivative (the residual reads y[col] through both), so a
+      // repeat stays zero (add_local sums the two into one entry).
+      if (std::find(e.columns.begin(), e.columns.begin() + c, col) != e.columns.begin() + c) continue;
       const double h = relative_step * (1 + std::abs(y[col]));
       yy[col] = y[col] + h;
       evaluate(yy, plus);
@@ -99,7 +105,7 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
 
 bool System::analytic_joint_block(const unsigned int j, const double t, const Vector<double> &y)
 {
-  if (joint_differences) return false;
+  if (element_differences_only) return false;
   const JointSlot &s = joints[j];
   const ElementIndices &e = joint_elements[j];
   const unsigned int l0 = nq + nv, m0 = nq + nv + nlambda, m = s.active.size(), n_own = s.joint->n_own_coordinates();
@@ -208,6 +214,23 @@ bool System::analytic_joint_block(const unsigned int j, const double t, const Ve
           const FullMatrix<double> &B = k == s.body_index.size() ? ev.B_own : ev.B[k];
           for (unsigned int i = 0; i < B.n(); ++i, ++c) block(n_q + n_v + r, c) = B(s.active[r], i);
         }
+    }
+  add_local(e.rows, e.columns, block);
+  return true;
+}
+
+bool System::analytic_force_block(const unsigned int f, const double t, const Vector<double> &y)
+{
+  if (element_differences_only) return false;
+  thread_local FullMatrix<double> dQ_dq, dQ_dv;
+  if (!forces[f].force->derivatives(force_q(f, y), force_v(f, y), t, dQ_dq, dQ_dv)) return false;
+  // Rows: the bodies' v; columns: their q, then their v. The residual is -Q.
+  const ElementIndices &e = force_elements[f];
+  FullMatrix<double> block(e.rows.size(), e.columns.size());
+  for (unsigned int r = 0; r < e.rows.size(); ++r)
+    {
+      for (unsigned int c = 0; c < dQ_dq.n(); ++c) block(r, c) = -dQ_dq(r, c);
+      for (unsigned int c = 0; c < dQ_dv.n(); ++c) block(r, dQ_dq.n() + c) = -dQ_dv(r, c);
     }
   add_local(e.rows, e.columns, block);
   return true;
@@ -322,7 +345,8 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
           (void)n_vc;
         }
     }
-  for (unsigned int f = 0; f < forces.size(); ++f) element_differences(force_element, f, t, y, yp);
+  for (unsigned int f = 0; f < forces.size(); ++f)
+    if (!analytic_force_block(f, t, y)) element_differences(force_element, f, t, y, yp);
 }
 
 bool System::factorize(const bool fresh_pivots)

@@ -52,16 +52,6 @@ void build(System &s)
                                                        marker("crank", Vector3({r, 0, 0}), "r2"), 5, 0.2, 0.1));
 }
 
-double entry(const Epetra_CrsMatrix &A, const int row, const int col)
-{
-  int n = 0;
-  std::vector<double> values(A.NumGlobalCols());
-  std::vector<int> cols(A.NumGlobalCols());
-  A.ExtractGlobalRowCopy(row, values.size(), n, values.data(), cols.data());
-  for (int k = 0; k < n; ++k)
-    if (cols[k] == col) return values[k];
-  return 0;
-}
 } // namespace
 
 TEST(MultibodyJacobian, assembled_jacobian_matches_central_differences_of_residual)
@@ -94,7 +84,7 @@ TEST(MultibodyJacobian, assembled_jacobian_matches_central_differences_of_residu
       s.residual(t, y2, yp2, Fm);
       for (unsigned int r = 0; r < y.size(); ++r)
         {
-          const double fd = (Fp[r] - Fm[r]) / (2 * h), a = entry(J, r, c);
+          const double fd = (Fp[r] - Fm[r]) / (2 * h), a = matrix_entry(J, r, c);
           largest = std::max(largest, std::abs(fd));
           if (std::abs(fd - a) > worst) worst = std::abs(fd - a), worst_row = r, worst_col = c;
         }

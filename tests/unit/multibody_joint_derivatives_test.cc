@@ -5,13 +5,18 @@
 // any solution. Bodies: two flexible curved arms (interfaces with translation and rotation mode
 // shapes), a rigid block and the ground; track joints on the arms (contacts at random arc
 // lengths, whose second derivatives come from differences of the track marker alone). Then the assembled DAE Jacobian with the analytic
-// joints against the one with every joint by differences (System::use_joint_differences).
+// joints against the one with every joint by differences (System::use_element_differences).
+// The forces likewise: dQ/dq and dQ/dv of each force kind (Force::derivatives) against central
+// differences of its generalised forces, and a spring between two points of one flexible body
+// (whose element lists the body's columns twice) in a whole Jacobian against central differences
+// of the whole residual.
 // Reference: central differences, h = 1e-6 (1 + |q_c|): truncation h^2 (third derivatives) and
 // rounding eps |B| / h, both about 1e-10 of the largest entry here.
 // Tolerance (issue 24's acceptance): 1e-7 of the largest entry of each block.
 #include "curved_arm_body.h"
 #include "multibody_test_helpers.h"
 
+#include <multibody/force.h>
 #include <multibody/generic_joint.h>
 
 #include <Epetra_CrsMatrix.h>
@@ -44,6 +49,8 @@ const std::vector<JointCase> cases = {
   {"planar", "block", "ground", "", "", ""},
   {"point_in_plane", "arm2", "ground", "tip", "", ""},
   {"revolute", "block", "arm2", "", "tip", ""},
+  {"revolute", "block", "arm2", "", "tip", "0.5*t + 0.1*sin(3*t)"}, // driven angle on two moving bodies
+  {"spherical", "ground", "arm1", "", "tip", ""},                    // the ground as body 1
   // Track joints: a contact at arc length s on arm 'arc' of body 2 (own coordinate s).
   {"prismatic_on_track", "block", "arm1", "", "", "0.2 + 0.1*t", "motion", "arc"},
   {"point_on_track", "arm2", "arm1", "tip", "", "", "free", "arc"},
@@ -128,10 +135,12 @@ void joint_terms(const Joint &joint, const std::vector<BodyState> &state, const 
     }
 }
 
-/// Largest |analytic - central difference| over the largest entry, of each derivative.
+/// Largest |analytic - central difference| over the largest entry, of each derivative; and
+/// column by column, over the column's largest entry (at least 1e-3 of the block's, where the
+/// differences' rounding, about 1e-10 of the block's values, would dominate a smaller one).
 struct Deviation
 {
-  double lambda = 0, mu = 0, rate = 0;
+  double lambda = 0, mu = 0, rate = 0, column = 0;
 };
 
 Deviation compare(const Joint &joint, const unsigned int seed, const double t)
@@ -169,6 +178,7 @@ Deviation compare(const Joint &joint, const unsigned int seed, const double t)
     << joint.name();
 
   double worst[3] = {0, 0, 0}, largest[3] = {0, 0, 0};
+  std::vector<std::array<double, 3>> column_worst, column_largest;
   unsigned int column = 0;
   for (BodyState &b : state)
     for (unsigned int c = 0; c < b.q.size(); ++c, ++column)
@@ -182,32 +192,30 @@ Deviation compare(const Joint &joint, const unsigned int seed, const double t)
         joint_terms(joint, state, t, lambda, lm, rm);
         joint_terms(joint, state, t, mu, mm, rm);
         b.q[c] = x0;
+        column_worst.push_back({{0, 0, 0}});
+        column_largest.push_back({{0, 0, 0}});
         const auto check = [&](const unsigned int k, const std::vector<double> &p, const std::vector<double> &n,
                                const FullMatrix<double> &analytic) {
           for (unsigned int r = 0; r < p.size(); ++r)
             {
-              const double fd = (p[r] - n[r]) / (2 * h);
+              const double fd = (p[r] - n[r]) / (2 * h), deviation = std::abs(fd - analytic(r, column));
               largest[k] = std::max(largest[k], std::abs(fd));
-              worst[k] = std::max(worst[k], std::abs(fd - analytic(r, column)));
+              worst[k] = std::max(worst[k], deviation);
+              column_largest.back()[k] = std::max(column_largest.back()[k], std::abs(fd));
+              column_worst.back()[k] = std::max(column_worst.back()[k], deviation);
             }
         };
         check(0, lp, lm, d.lambda_q);
         check(1, mp, mm, d.mu_q);
         check(2, rp, rm, d.rate_q);
       }
-  return {worst[0] / largest[0], worst[1] / largest[1], worst[2] / largest[2]};
+  double by_column = 0;
+  for (unsigned int c = 0; c < column_worst.size(); ++c)
+    for (unsigned int k = 0; k < 3; ++k)
+      by_column = std::max(by_column, column_worst[c][k] / std::max(column_largest[c][k], 1e-3 * largest[k]));
+  return {worst[0] / largest[0], worst[1] / largest[1], worst[2] / largest[2], by_column};
 }
 
-double entry(const Epetra_CrsMatrix &A, const int row, const int col)
-{
-  int n = 0;
-  std::vector<double> values(A.NumGlobalCols());
-  std::vector<int> cols(A.NumGlobalCols());
-  A.ExtractGlobalRowCopy(row, values.size(), n, values.data(), cols.data());
-  for (int k = 0; k < n; ++k)
-    if (cols[k] == col) return values[k];
-  return 0;
-}
 } // namespace
 
 TEST(MultibodyJointDerivatives, generic_joints_match_central_differences_per_kind)
@@ -220,7 +228,8 @@ TEST(MultibodyJointDerivatives, generic_joints_match_central_differences_per_kin
         const Deviation d = compare(s.joint(j), 10 * j + seed, 0.7);
         std::cout << "  " << cases[j].kind << " (" << cases[j].body1 << ", " << cases[j].body2 << "), state " << seed
                   << ": |D - D_fd| / max |D_fd|: d(B^T lambda)/dq " << d.lambda << ", d(B^T mu)/dq " << d.mu
-                  << ", d(B v + Phi_t)/dq " << d.rate << "\n";
+                  << ", d(B v + Phi_t)/dq " << d.rate << "; column by column " << d.column << "\n";
+        EXPECT_LT(d.column, 1e-6) << cases[j].kind;
         EXPECT_LT(d.lambda, 1e-7) << cases[j].kind;
         EXPECT_LT(d.mu, 1e-7) << cases[j].kind;
         EXPECT_LT(d.rate, 1e-7) << cases[j].kind;
@@ -232,6 +241,8 @@ TEST(MultibodyJointDerivatives, assembled_jacobian_equals_the_one_by_joint_diffe
   System s(Vector3({0, 0, -9.81}));
   build(s);
   s.finalize();
+  s.drop_equations({{1, 0}, {3, 2}, {12, 1}}); // dropped (redundant) rows: lambda and mu by active index
+  s.set_held(2, true);                         // the bead's contact held at its lower end stop
   Vector<double> y, yp;
   s.initial_guess(y);
   yp.reinit(y.size());
@@ -239,13 +250,13 @@ TEST(MultibodyJointDerivatives, assembled_jacobian_equals_the_one_by_joint_diffe
   std::uniform_real_distribution<double> u(-1, 1);
   for (unsigned int i = 0; i < y.size(); ++i) y[i] += 0.05 * u(rng), yp[i] = 0.5 * u(rng);
   for (unsigned int i = s.n_q() + s.n_v(); i < y.size(); ++i) y[i] = 10 * u(rng); // multipliers
-  const double t = 0.7, alpha = 0; // alpha 0: the q rows hold -T v and the joints' terms only
+  const double t = 0.7, alpha = 7; // alpha enters both the same way
   s.assemble_jacobian(t, alpha, y, yp);
   const unsigned int n = y.size();
   std::vector<double> analytic(n * n);
   for (unsigned int r = 0; r < n; ++r)
-    for (unsigned int c = 0; c < n; ++c) analytic[r * n + c] = entry(s.jacobian(), r, c);
-  s.use_joint_differences(true);
+    for (unsigned int c = 0; c < n; ++c) analytic[r * n + c] = multibody::test::matrix_entry(s.jacobian(), r, c);
+  s.use_element_differences(true);
   s.assemble_jacobian(t, alpha, y, yp);
   // Row by row: the largest difference in a row over the row's largest entry (the own
   // coordinates' rows hold entries of order 1 beside modal entries of order 1e5 elsewhere).
@@ -256,7 +267,7 @@ TEST(MultibodyJointDerivatives, assembled_jacobian_equals_the_one_by_joint_diffe
       double difference = 0, largest = 0;
       for (unsigned int c = 0; c < n; ++c)
         {
-          const double fd = entry(s.jacobian(), r, c);
+          const double fd = multibody::test::matrix_entry(s.jacobian(), r, c);
           largest = std::max(largest, std::abs(fd));
           difference = std::max(difference, std::abs(fd - analytic[r * n + c]));
         }
@@ -265,4 +276,177 @@ TEST(MultibodyJointDerivatives, assembled_jacobian_equals_the_one_by_joint_diffe
   std::cout << "  Jacobian " << n << " x " << n << ": max over rows of max |J - J_fd| / max |J_fd| = " << worst
             << " (row " << s.component_name(worst_row) << ")\n";
   EXPECT_LT(worst, 1e-7);
+}
+
+namespace
+{
+struct ForceCase
+{
+  std::string kind, body1, body2, interface1, interface2;
+  bool marker_axes = false;
+};
+
+// Markers at interfaces move with the interface modes (translation and rotation shapes).
+const std::vector<ForceCase> force_cases = {
+  {"applied load", "arm1", "", "tip", "", false},
+  {"applied load", "block", "", "", "", true},
+  {"applied load", "arm2", "", "tip", "", true},
+  {"spring damper", "arm1", "arm2", "tip", "root", false},
+  {"spring damper", "block", "ground", "", "", false},
+  {"rotational spring damper", "arm2", "block", "root", "", false},
+  {"rotational spring damper", "arm1", "ground", "tip", "", false},
+};
+
+std::unique_ptr<Marker> force_marker(const System &s, const std::string &body, const std::string &interface,
+                                     const Vector3 &position, const std::string &name)
+{
+  const Body &b = *s.find_body(body);
+  std::vector<double> q(b.n_q()), v(b.n_v());
+  b.initial_coordinates(q.data(), v.data());
+  Matrix3 axes; // z along (0.2, 0.3, 1), orthonormal
+  const Vector3 z = Vector3({0.2, 0.3, 1}) / Vector3({0.2, 0.3, 1}).norm();
+  const Vector3 x = cross_product_3d(Vector3({0, 1, 0}), z) / cross_product_3d(Vector3({0, 1, 0}), z).norm();
+  const Vector3 y = cross_product_3d(z, x);
+  for (unsigned int i = 0; i < 3; ++i) axes[i][0] = x[i], axes[i][1] = y[i], axes[i][2] = z[i];
+  return FixedMarker::at_global_pose(b, name, position, axes, q.data(), interface);
+}
+
+std::unique_ptr<Force> make_force(const System &s, const ForceCase &c, const unsigned int k)
+{
+  const std::string name = "f" + std::to_string(k);
+  auto m1 = force_marker(s, c.body1, c.interface1, Vector3({0.3, 0.2, 0.1}), name + "_1");
+  if (c.kind == "applied load")
+    return std::make_unique<AppliedLoad>(
+      name, std::move(m1),
+      std::array<geometry::Expression, 3>{{geometry::Expression("3*sin(t)", "t"), geometry::Expression("2", "t"), geometry::Expression("-1 + t", "t")}},
+      std::array<geometry::Expression, 3>{{geometry::Expression("0.5", "t"), geometry::Expression("cos(t)", "t"), geometry::Expression("0.2*t", "t")}},
+      c.marker_axes);
+  auto m2 = force_marker(s, c.body2, c.interface2, Vector3({-0.2, 0.4, 0.3}), name + "_2");
+  if (c.kind == "spring damper") return std::make_unique<SpringDamper>(name, std::move(m1), std::move(m2), 150, 7, 0.3);
+  return std::make_unique<RotationalSpringDamper>(name, std::move(m1), std::move(m2), 150, 7, 0.3);
+}
+} // namespace
+
+TEST(MultibodyForceDerivatives, forces_match_central_differences_per_kind)
+{
+  // Reference: central differences of Q (Force::add_forces), h = 1e-6 (1 + |x|) in q and v.
+  System s(Vector3({0, 0, -9.81}));
+  build(s);
+  for (unsigned int k = 0; k < force_cases.size(); ++k)
+    {
+      const auto force = make_force(s, force_cases[k], k);
+      for (const unsigned int seed : {1u, 2u, 3u})
+        {
+          std::mt19937 rng(100 * k + seed);
+          std::uniform_real_distribution<double> u(-1, 1);
+          std::vector<std::vector<double>> q, v;
+          unsigned int nv = 0;
+          for (const Body *b : force->bodies())
+            {
+              q.emplace_back(b->n_q()), v.emplace_back(b->n_v());
+              nv += b->n_v();
+              for (unsigned int i = 0; i < b->n_q(); ++i) q.back()[i] = i < 3 ? 0.5 * u(rng) : i < 7 ? 0.6 * u(rng) : 0.05 * u(rng);
+              for (unsigned int i = 0; i < b->n_v(); ++i) v.back()[i] = 2 * u(rng);
+            }
+          const double t = 0.7;
+          const auto pointers = [](std::vector<std::vector<double>> &x) {
+            std::vector<const double *> p;
+            for (auto &b : x) p.push_back(b.empty() ? nullptr : b.data());
+            return p;
+          };
+          const auto generalised = [&]() {
+            std::vector<double> Q(nv, 0.0);
+            std::vector<double *> Qb;
+            unsigned int o = 0;
+            for (const auto &b : v) Qb.push_back(Q.data() + o), o += b.size();
+            force->add_forces(pointers(q), pointers(v), t, Qb);
+            return Q;
+          };
+          FullMatrix<double> dq, dv;
+          ASSERT_TRUE(force->derivatives(pointers(q), pointers(v), t, dq, dv)) << force_cases[k].kind;
+          for (const bool in_q : {true, false})
+            {
+              std::vector<std::vector<double>> &x = in_q ? q : v;
+              const FullMatrix<double> &analytic = in_q ? dq : dv;
+              double worst = 0, largest = 0;
+              unsigned int column = 0;
+              for (auto &b : x)
+                for (unsigned int c = 0; c < b.size(); ++c, ++column)
+                  {
+                    const double x0 = b[c], h = 1e-6 * (1 + std::abs(x0));
+                    b[c] = x0 + h;
+                    const auto Qp = generalised();
+                    b[c] = x0 - h;
+                    const auto Qm = generalised();
+                    b[c] = x0;
+                    for (unsigned int r = 0; r < nv; ++r)
+                      {
+                        const double fd = (Qp[r] - Qm[r]) / (2 * h);
+                        largest = std::max(largest, std::abs(fd));
+                        worst = std::max(worst, std::abs(fd - analytic(r, column)));
+                      }
+                  }
+              if (largest == 0) // an applied load does not depend on v
+                {
+                  EXPECT_EQ(worst, 0) << force_cases[k].kind;
+                  continue;
+                }
+              std::cout << "  " << force_cases[k].kind << " (" << force_cases[k].body1 << ", " << force_cases[k].body2
+                        << (force_cases[k].marker_axes ? ", marker axes" : "") << "), state "
+                        << seed << ": |dQ/d" << (in_q ? "q" : "v") << " - fd| / max |fd| = " << worst / largest << "\n";
+              EXPECT_LT(worst, 1e-7 * largest) << force_cases[k].kind;
+            }
+        }
+    }
+}
+
+TEST(MultibodyForceDerivatives, spring_on_one_flexible_body_matches_differences_of_the_residual)
+{
+  // A spring-damper between the root and the tip of one free flexible arm: its element lists the
+  // arm's columns twice. Reference: central differences of the whole residual, h = 1e-5 (1 + |y|)
+  // in q and v (the elastic forces K eta make the rounding eps |K eta| / h about 4e-6 of a row at
+  // h = 1e-7; at 1e-5 the deviation measured 4.7e-8). Tolerance 1e-6 of each row's largest entry.
+  // With the repeated columns differenced twice (the error this guards against) it is 2.6e-2.
+  System s(Vector3({0, 0, -9.81}));
+  s.add_body(std::make_unique<FloatingBody>("arm", flextrack::test::curved_arm(false), FlexibleOptions(), InitialState()));
+  s.add_force(std::make_unique<SpringDamper>("inner", force_marker(s, "arm", "tip", Vector3(), "inner_1"),
+                                             force_marker(s, "arm", "root", Vector3(), "inner_2"), 2e4, 50, 0.2));
+  s.finalize();
+  Vector<double> y, yp;
+  s.initial_guess(y);
+  yp.reinit(y.size());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (unsigned int i = 0; i < s.n_q() + s.n_v(); ++i) y[i] += (i >= 7 && i < s.n_q() ? 1e-3 : 0.05) * u(rng);
+  for (unsigned int i = 0; i < y.size(); ++i) yp[i] = 0.5 * u(rng);
+  const double t = 0.2, alpha = 0;
+  s.assemble_jacobian(t, alpha, y, yp);
+  double worst = 0;
+  unsigned int worst_row = 0;
+  std::vector<double> analytic(y.size() * y.size()), fd(y.size() * y.size());
+  const unsigned int n = y.size();
+  for (unsigned int r = 0; r < n; ++r)
+    for (unsigned int c = 0; c < n; ++c) analytic[r * n + c] = multibody::test::matrix_entry(s.jacobian(), r, c);
+  Vector<double> Fp, Fm;
+  for (unsigned int c = 0; c < s.n_q() + s.n_v(); ++c)
+    {
+      const double h = 1e-5 * (1 + std::abs(y[c]));
+      Vector<double> y1(y), y2(y);
+      y1[c] += h, y2[c] -= h;
+      s.residual(t, y1, yp, Fp);
+      s.residual(t, y2, yp, Fm);
+      for (unsigned int r = 0; r < n; ++r) fd[r * n + c] = (Fp[r] - Fm[r]) / (2 * h);
+    }
+  for (unsigned int r = s.n_q(); r < s.n_q() + s.n_v(); ++r) // the rows of the equations of motion
+    {
+      double difference = 0, largest = 0;
+      for (unsigned int c = 0; c < s.n_q() + s.n_v(); ++c)
+        {
+          largest = std::max(largest, std::abs(fd[r * n + c]));
+          difference = std::max(difference, std::abs(fd[r * n + c] - analytic[r * n + c]));
+        }
+      if (difference / largest > worst) worst = difference / largest, worst_row = r;
+    }
+  std::cout << "  max over rows of max |J - J_fd| / max |J_fd| = " << worst << " (row " << s.component_name(worst_row) << ")\n";
+  EXPECT_LT(worst, 1e-6);
 }

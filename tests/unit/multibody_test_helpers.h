@@ -11,10 +11,13 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <Epetra_CrsMatrix.h>
+
 #include <cmath>
 #include <memory>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace flextrack::multibody::test
 {
@@ -96,5 +99,16 @@ inline void add_planar_four_bar(System &s)
   add_joint(s, "revolute", "C", "rocker", "coupler", C, Vector3({0, 0, 1}));
   add_joint(s, "revolute", "D", "rocker", "ground", D, Vector3({0, 0, 1}));
   s.finalize();
+}
+/// Entry (row, col) of an assembled matrix (0 where it holds none).
+inline double matrix_entry(const Epetra_CrsMatrix &A, const int row, const int col)
+{
+  int n = 0;
+  std::vector<double> values(A.NumGlobalCols());
+  std::vector<int> cols(A.NumGlobalCols());
+  A.ExtractGlobalRowCopy(row, values.size(), n, values.data(), cols.data());
+  for (int k = 0; k < n; ++k)
+    if (cols[k] == col) return values[k];
+  return 0;
 }
 } // namespace flextrack::multibody::test
