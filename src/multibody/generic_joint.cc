@@ -289,7 +289,6 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
     std::array<const FullMatrix<double> *, 4> J;
     std::array<Vector3, 4> u;
     std::array<FullMatrix<double>, 4> Y, V;
-    std::array<std::vector<FullMatrix<double>>, 4> dJ; // dJ_a / dq_k (no body-fixed form)
   };
   thread_local Side side[2];
   unsigned int nq_total = 0, nv_total = 0;
@@ -303,6 +302,13 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
       nq_total += S.nq, nv_total += S.nv;
     }
   const unsigned int n_own = side[0].n_own + side[1].n_own;
+  // w_a = sum_r w_r dPhi_r/dy_a for both multipliers: H_a(w_a) of a marker without closed forms
+  // is summed column by column while its J is differenced (nothing of size n_q x n_v is kept).
+  std::array<Vector3, 8> w_lambda, w_mu;
+  for (unsigned int r = 0; r < rows.size(); ++r)
+    for (unsigned int a = 0; a < 8; ++a) w_lambda[a] += lambda[r] * l.grad[r][a], w_mu[a] += mu[r] * l.grad[r][a];
+  d.lambda_q.reinit(nv_total + n_own, nq_total + n_own);
+  d.mu_q.reinit(nv_total + n_own, nq_total + n_own);
   const auto q_column = [&](const Side &S, const unsigned int k) { return k < S.nq ? S.q0 + k : nq_total + S.own0 + k - S.nq; };
   const auto v_row = [&](const Side &S, const unsigned int i) { return i < S.nv ? S.v0 + i : nv_total + S.own0 + i - S.nv; };
 
@@ -358,11 +364,9 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
       own.assign(S.n_own, 0.0);
       for (unsigned int i = 0; i < S.nq; ++i) x[i] = q[m][i];
       for (unsigned int i = 0; i < S.n_own; ++i) own[i] = own_q[S.own0 + i];
-      for (unsigned int a = 0; a < 4; ++a)
-        {
-          S.dJ[a].resize(S.nq + S.n_own);
-          S.V[a].reinit(3, S.nq + S.n_own);
-        }
+      for (unsigned int a = 0; a < 4; ++a) S.V[a].reinit(3, S.nq + S.n_own);
+      thread_local FullMatrix<double> dJ;
+      dJ.reinit(3, S.nv + S.n_own); // every entry is written below
       for (unsigned int c = 0; c < S.nq + S.n_own; ++c)
         {
           double &entry = c < S.nq ? x[c] : own[c - S.nq];
@@ -376,29 +380,31 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
             {
               const FullMatrix<double> &Jp = a == 0 ? plus.J_position : plus.J_axes[a - 1];
               const FullMatrix<double> &Jm = a == 0 ? minus.J_position : minus.J_axes[a - 1];
-              FullMatrix<double> &dJ = S.dJ[a][c];
-              dJ.reinit(3, S.nv + S.n_own);
               for (unsigned int i = 0; i < 3; ++i)
                 for (unsigned int j = 0; j < S.nv + S.n_own; ++j)
                   {
                     dJ(i, j) = (Jp(i, j) - Jm(i, j)) / (2 * h);
                     S.V[a](i, c) += dJ(i, j) * S.v[j];
                   }
+              // H_a(w_a), column c: dJ_a^T w_a
+              const Vector3 &wl = w_lambda[4 * m + a], &wm = w_mu[4 * m + a];
+              for (unsigned int i = 0; i < S.nv + S.n_own; ++i)
+                {
+                  d.lambda_q(v_row(S, i), q_column(S, c)) += dJ(0, i) * wl[0] + dJ(1, i) * wl[1] + dJ(2, i) * wl[2];
+                  d.mu_q(v_row(S, i), q_column(S, c)) += dJ(0, i) * wm[0] + dJ(1, i) * wm[1] + dJ(2, i) * wm[2];
+                }
             }
         }
     }
 
   thread_local std::vector<HessianTerm> terms;
-  const auto weighted = [&](const double *w, FullMatrix<double> &D) {
-    D.reinit(nv_total + n_own, nq_total + n_own);
+  const auto weighted = [&](const double *w, const std::array<Vector3, 8> &w_a, FullMatrix<double> &D) {
     double W[8][8] = {};
-    std::array<Vector3, 8> w_a;
     for (unsigned int r = 0; r < rows.size(); ++r)
       {
         if (w[r] == 0) continue;
         row_hessian(r, angle, terms);
         for (const HessianTerm &h : terms) W[h.a][h.b] += w[r] * h.c;
-        for (unsigned int a = 0; a < 8; ++a) w_a[a] += w[r] * l.grad[r][a];
       }
     for (unsigned int a = 0; a < 8; ++a)
       {
@@ -415,22 +421,12 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
               for (unsigned int k = 0; k < Sb.nq + Sb.n_own; ++k)
                 D(v_row(Sa, i), q_column(Sb, k)) += W[a][b] * (J(0, i) * Y(0, k) + J(1, i) * Y(1, k) + J(2, i) * Y(2, k));
           }
-        if (w_a[a].norm_square() == 0) continue;
-        if (!Sa.form) // H_a(w_a) from the differences of J
-          {
-            for (unsigned int k = 0; k < Sa.nq + Sa.n_own; ++k)
-              {
-                const FullMatrix<double> &dJ = Sa.dJ[a % 4][k];
-                for (unsigned int i = 0; i < na; ++i)
-                  D(v_row(Sa, i), q_column(Sa, k)) += dJ(0, i) * w_a[a][0] + dJ(1, i) * w_a[a][1] + dJ(2, i) * w_a[a][2];
-              }
-            continue;
-          }
-        Sa.fixed.add_H(a % 4, w_a[a], D, Sa.v0, Sa.q0); // H_a(w_a), closed form
+        // H_a(w_a) in closed form; a marker without one had it added with its differences
+        if (Sa.form && w_a[a].norm_square() != 0) Sa.fixed.add_H(a % 4, w_a[a], D, Sa.v0, Sa.q0);
       }
   };
-  weighted(lambda, d.lambda_q);
-  weighted(mu, d.mu_q);
+  weighted(lambda, w_lambda, d.lambda_q);
+  weighted(mu, w_mu, d.mu_q);
 
   d.rate_q.reinit(rows.size(), nq_total + n_own);
   const auto add_row_times = [&](const unsigned int r, const double c, const Vector3 &x, const unsigned int b,
