@@ -228,9 +228,9 @@ private:
                  const dealii::FullMatrix<double> &block);
   void element_differences(unsigned int kind, unsigned int index, double t, const dealii::Vector<double> &y,
                            const dealii::Vector<double> &yp);
-  /// Joint @p j's block from its analytic derivatives (Joint::derivatives); false (nothing
-  /// added) where it has none.
-  bool analytic_joint_block(unsigned int j, double t, const dealii::Vector<double> &y);
+  /// Joint @p j's block from its analytic derivatives (Joint::derivatives), with @p ev its
+  /// evaluation at (t, y); false (nothing added) where it has none.
+  bool analytic_joint_block(unsigned int j, double t, const dealii::Vector<double> &y, const JointEvaluation &ev);
   /// The same for force @p f (Force::derivatives).
   bool analytic_force_block(unsigned int f, double t, const dealii::Vector<double> &y);
   /// Body @p b's rows of the Jacobian, analytic (Body::equation_jacobians).

@@ -103,7 +103,8 @@ void System::element_differences(const unsigned int kind, const unsigned int ind
   add_local(e.rows, e.columns, block);
 }
 
-bool System::analytic_joint_block(const unsigned int j, const double t, const Vector<double> &y)
+bool System::analytic_joint_block(const unsigned int j, const double t, const Vector<double> &y,
+                                  const JointEvaluation &ev)
 {
   if (element_differences_only) return false;
   const JointSlot &s = joints[j];
@@ -120,8 +121,6 @@ bool System::analytic_joint_block(const unsigned int j, const double t, const Ve
   const double *own_q = n_own ? y.begin() + s.own_q : nullptr, *own_v = n_own ? y.begin() + nq + s.own_v : nullptr;
   thread_local JointDerivatives d;
   if (!s.joint->derivatives(q, own_q, t, lambda.data(), mu.data(), v, own_v, d)) return false;
-  thread_local JointEvaluation ev;
-  s.joint->evaluate(q, own_q, t, ev);
 
   // Rows: q (bodies, own), v (bodies, own), lambda, mu; columns: q, v (joint_elements), with
   // n_q and n_v counting the own coordinates. The derivatives' rows are v (bodies, own), their
@@ -316,12 +315,12 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
   for (unsigned int b = 1; b < bodies.size(); ++b) body_jacobian(b, alpha, y, yp);
   for (unsigned int j = 0; j < joints.size(); ++j)
     {
-      if (!analytic_joint_block(j, t, y)) element_differences(joint_element, j, t, y, yp);
       const JointSlot &s = joints[j];
       const ElementIndices &e = joint_elements[j];
       const unsigned int m = s.active.size(), n_own = s.joint->n_own_coordinates();
-      JointEvaluation ev;
+      JointEvaluation ev; // at (t, y): B for the analytic block and for the terms below
       s.joint->evaluate(joint_q(j, y), n_own ? (y.begin() + (s.own_q)) : nullptr, t, ev);
+      if (!analytic_joint_block(j, t, y, ev)) element_differences(joint_element, j, t, y, yp);
       FullMatrix<double> Phi_q;
       joint_position_jacobian(j, y, ev, Phi_q);
       const unsigned int n_qc = Phi_q.n(), n_vc = e.columns.size() - n_qc;
