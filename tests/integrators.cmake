@@ -36,6 +36,23 @@ add_test(NAME cli_run_generalized_alpha_stops_at_track_end
           -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_track_end.cmake
   WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(cli_run_generalized_alpha_stops_at_track_end PROPERTIES LABELS cli)
+# The same with Radau IIA (issue 24, item 5): the root located on its collocation polynomial.
+add_test(NAME cli_run_radau_stops_at_track_end
+  COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:flextrack>
+          -DSCENE=${CMAKE_CURRENT_SOURCE_DIR}/integrators/slider_on_arc_radau.prm
+          -DOUT=${CMAKE_CURRENT_BINARY_DIR}/radau_end_of_track -DSTOP=0.642477
+          "-DREGEX=at t = 0.642478 s the contact slide_on_arm1 of joint 'slide' reached the end of its track"
+          -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_track_end.cmake
+  WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(cli_run_radau_stops_at_track_end PROPERTIES LABELS cli)
+
+# 'Method = auto' (issue 24, item 3): the flexible double pendulum of prm/bench/ with no Integrator
+# subsection runs with Radau IIA, says so, and closes its energy balance (about 3 s).
+add_test(NAME cli_run_auto_method_is_radau_for_flexible_scenes
+  COMMAND ${SYSTEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/integrators/check_auto_method.py $<TARGET_FILE:flextrack>
+          ${CMAKE_SOURCE_DIR}/prm/bench/default_double_pendulum.prm ${CMAKE_CURRENT_BINARY_DIR}/cli_auto_method)
+set_tests_properties(cli_run_auto_method_is_radau_for_flexible_scenes PROPERTIES LABELS cli TIMEOUT 300
+  FAIL_REGULAR_EXPRESSION "FAILED")
 
 # Issue 24, item 2: Andrews' squeezing mechanism (prm/bench/andrews_squeezer.prm, 7 rigid bars in
 # a closed loop) against the published reference solution at t = 0.03 s (IVP Test Set, problem

@@ -74,6 +74,7 @@ multibody::IntegratorSettings with_rtol(const multibody::IntegratorSettings &sce
 {
   multibody::IntegratorSettings s = scene;
   s.method = multibody::IntegrationMethod::ida;
+  s.automatic_method = false;
   const double scale = rtol / scene.relative_tolerance;
   s.relative_tolerance = rtol;
   s.absolute_tolerance = scene.absolute_tolerance * scale;
@@ -187,8 +188,13 @@ int bench_command(const Options &options, const io::SceneFile &file)
 
   // The sweep
   std::vector<std::pair<std::string, multibody::IntegratorSettings>> settings;
-  for (int k = 3; k <= 10; ++k)
-    settings.emplace_back("rtol 1e-" + std::string(k < 10 ? "0" : "") + std::to_string(k), with_rtol(base, std::pow(10.0, -k)));
+  for (const auto method : {multibody::IntegrationMethod::ida, multibody::IntegrationMethod::radau})
+    for (int k = 3; k <= 10; ++k)
+      {
+        multibody::IntegratorSettings s = with_rtol(base, std::pow(10.0, -k));
+        s.method = method;
+        settings.emplace_back("rtol 1e-" + std::string(k < 10 ? "0" : "") + std::to_string(k), s);
+      }
   for (int k = 0; k <= 7; ++k)
     {
       multibody::IntegratorSettings g = with_rtol(base, 1e-8); // Newton tolerance well below the step's error
@@ -216,7 +222,7 @@ int bench_command(const Options &options, const io::SceneFile &file)
         }
       row.method = settings[i].second.method_name();
       row.setting = settings[i].first;
-      row.value = row.method == "ida" ? settings[i].second.relative_tolerance : settings[i].second.step;
+      row.value = row.method == "generalized_alpha" ? settings[i].second.step : settings[i].second.relative_tolerance;
       row.errors.assign(n_probes, std::numeric_limits<double>::quiet_NaN());
       if (paths && paths->n_rows() == reference_paths->n_rows())
         {
@@ -247,7 +253,7 @@ int bench_command(const Options &options, const io::SceneFile &file)
       << reference_scene->settings.output_interval << " s) [m]; max_relative_error: the largest of those divided by the "
       << "extent of the reference path (largest range of one coordinate):";
   for (unsigned int p = 0; p < n_probes; ++p) csv << " " << probe_names[p] << " " << extent[p] << " m";
-  csv << "\n# IDA: absolute tolerances scaled with rtol; generalized_alpha: fixed step, rho_inf "
+  csv << "\n# IDA (ida) and Radau IIA (radau): absolute tolerances scaled with rtol; generalized_alpha: fixed step, rho_inf "
       << base.spectral_radius << ", Newton at rtol 1e-8; wall_time_s: integration only; peak memory: the process "
       << "during that run\n";
   csv << "method,setting,value,status,max_relative_error";
@@ -276,7 +282,7 @@ int bench_command(const Options &options, const io::SceneFile &file)
     .add("reference_steps", static_cast<double>(ref_row.statistics.steps))
     .add("reference_wall_time_s", ref_row.wall);
   std::cout << "  fastest runs:" << std::endl;
-  for (const std::string method : {"ida", "generalized_alpha"})
+  for (const std::string method : {"ida", "radau", "generalized_alpha"})
     for (const double target : {1e-3, 1e-6})
       {
         const BenchRow *best = nullptr;

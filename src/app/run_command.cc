@@ -247,7 +247,7 @@ int run_command(const Options &options, const io::SceneFile &file)
   // The entries left "auto" are chosen here, for this scene, and said in the log and summary.json.
   multibody::IntegratorSettings integrator_settings = settings.integrator;
   const std::string chosen = multibody::choose_automatic_settings(system, integrator_settings);
-  if (!chosen.empty() && settings.integrator.method == multibody::IntegrationMethod::ida)
+  if (!chosen.empty() && integrator_settings.method != multibody::IntegrationMethod::generalized_alpha)
     std::cout << "  integrator (chosen for this scene): " << chosen << "\n";
   // Yardsticks of the residual maxima reported at the end (issue 25, item 12): what the
   // integrator was asked to hold, atol + rtol x the largest position coordinate at the start, and
@@ -367,7 +367,7 @@ int run_command(const Options &options, const io::SceneFile &file)
         return modes;
       }())
       .add("integrator", statistics_json(integrator.statistics(), system)
-                             .add("method", settings.integrator.method_name())
+                             .add("method", integrator_settings.method_name())
                              .add("maximum_order", integrator_settings.max_order)
                              .add("chosen_for_this_scene", chosen))
       .add("initial_conditions", initial_conditions_json(report))

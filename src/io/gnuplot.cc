@@ -68,6 +68,8 @@ std::string bench_plot_script(const std::string &title, const unsigned int n_pro
      << "set title " << gnuplot_string(title) << "\n"
      << "plot 'bench.csv' using ($5 > 0 && strcol(1) eq 'ida' ? $" << wall
      << " : 1/0):5 with linespoints pt 7 title 'IDA (BDF), rtol 1e-3 ... 1e-10', \\\n"
+     << "     'bench.csv' using ($5 > 0 && strcol(1) eq 'radau' ? $" << wall
+     << " : 1/0):5 with linespoints pt 9 title 'Radau IIA (order 5), rtol 1e-3 ... 1e-10', \\\n"
      << "     'bench.csv' using ($5 > 0 && strcol(1) eq 'generalized_alpha' ? $" << wall
      << " : 1/0):5 with linespoints pt 5 title 'generalised-alpha, fixed steps'\n";
   return gp.str();

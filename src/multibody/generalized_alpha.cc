@@ -255,22 +255,7 @@ double GeneralizedAlphaIntegrator::integrate(const double t_end, const double ou
       if (n_roots)
         {
           root_function(t_now, y, yp, g_new.data());
-          for (unsigned int i = 0; i < n_roots; ++i)
-            if ((g_old[i] < 0 && g_new[i] >= 0) || (g_old[i] > 0 && g_new[i] <= 0))
-              {
-                double a = t_last, b = t_now, ga = g_old[i];
-                std::vector<double> g(n_roots);
-                for (int it = 0; it < 200 && b - a > 1e-14 * std::max(1.0, std::abs(b)); ++it)
-                  {
-                    const double m = 0.5 * (a + b);
-                    interpolate(m, yo, ypo);
-                    root_function(m, yo, ypo, g.data());
-                    if ((ga < 0) == (g[i] < 0)) a = m, ga = g[i];
-                    else b = m;
-                  }
-                if (b < t_stop) t_stop = b, std::fill(roots.begin(), roots.end(), 0);
-                if (b <= t_stop) roots[i] = g_old[i] < 0 ? 1 : -1;
-              }
+          t_stop = locate_roots(root_function, t_last, t_now, g_old, g_new, roots);
           g_old = g_new;
         }
       const bool stopped = t_stop < t_now || std::any_of(roots.begin(), roots.end(), [](int r) { return r != 0; });
@@ -281,13 +266,7 @@ double GeneralizedAlphaIntegrator::integrate(const double t_end, const double ou
           y = yo, yp = ypo;
         }
       if (step_hook) step_hook(t_last, t_now);
-      while (output && next_output <= t_now + tiny)
-        {
-          interpolate(std::min(next_output, t_now), yo, ypo);
-          output(std::min(next_output, t_now), yo, ypo);
-          if (next_output >= t_end - tiny) break;
-          next_output = next_output_time(next_output, output_interval, t_end);
-        }
+      output_until(t_now, t_end, output_interval, next_output, output);
       if (stopped)
         {
           if (output) output(t_now, y, yp);

@@ -20,11 +20,15 @@ namespace flextrack::multibody
 // A failure of the time integration throws flextrack::SolverError (base/solver_error.h); what()
 // gives the time, the worst component by name and what to change.
 
-enum class IntegrationMethod { ida, generalized_alpha };
+enum class IntegrationMethod { ida, generalized_alpha, radau };
 
 struct IntegratorSettings
 {
   IntegrationMethod method = IntegrationMethod::ida;
+  /// "Method = auto" (the parameter's default): chosen by choose_automatic_settings() (Radau IIA
+  /// for a scene with elastic modes, IDA otherwise). False here, so that settings built in code
+  /// get the method they set.
+  bool automatic_method = false;
   double relative_tolerance = 1e-6; ///< [-]
   double absolute_tolerance = 1e-8; ///< [units of q, and of v unless velocity_tolerance is set]
   /// Absolute tolerance of the velocities [m/s, rad/s, modal units/s]; 0: absolute_tolerance.
@@ -116,11 +120,20 @@ public:
 protected:
   /// The first output time t0 + k dt after @p t_now (t0: output_origin), k >= 1.
   double next_output_time(double t_now, double output_interval, double t_end) const;
+  /// For the one-step methods: the root functions @p g that change sign over the step just taken
+  /// from @p t_begin to @p t_end (values @p g_begin, @p g_end), each located by bisection on
+  /// interpolate(). Returns the earliest such time (t_end if none) and sets @p found for the
+  /// functions that change sign there (+1 rising, -1 falling; left as it was if none does).
+  double locate_roots(const RootFunction &g, double t_begin, double t_end, const std::vector<double> &g_begin,
+                      const std::vector<double> &g_end, std::vector<int> &found) const;
+  /// For the one-step methods: calls @p output at every output time up to @p t (on
+  /// interpolate()), advancing @p next_output; none past @p t_end.
+  void output_until(double t, double t_end, double output_interval, double &next_output, const Observer &output) const;
   double output_origin = 0; ///< t0 of initialize() [s]
 };
 
-/// The entries left "auto" in @p settings, chosen for @p system (velocity tolerances per
-/// coordinate, the BDF order limit; doc/multibody.md, "Integrator defaults"), and the sentence that
+/// The entries left "auto" in @p settings, chosen for @p system (the method, velocity tolerances
+/// per coordinate, the BDF order limit; doc/multibody.md, "Integrator defaults"), and the sentence that
 /// says what was chosen and why (empty if nothing was automatic). Idempotent.
 std::string choose_automatic_settings(const System &system, IntegratorSettings &settings);
 

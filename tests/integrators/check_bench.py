@@ -35,8 +35,10 @@ def main():
     assert any("error_" in l and "largest distance" in l for l in header), "bench.csv: no error definition in the header"
     rows = list(csv.DictReader(l for l in lines if not l.startswith("#")))
     ida = [r for r in rows if r["method"] == "ida"]
+    radau = [r for r in rows if r["method"] == "radau"]
     ga = [r for r in rows if r["method"] == "generalized_alpha"]
-    assert len(ida) == 8 and len(ga) == 8, f"expected 8 + 8 rows, found {len(ida)} + {len(ga)}"
+    assert len(ida) == 8 and len(radau) == 8 and len(ga) == 8, \
+        f"expected 8 + 8 + 8 rows, found {len(ida)} + {len(radau)} + {len(ga)}"
     for name in ("bench.png", "summary.json"):
         assert os.path.getsize(os.path.join(folder, name)) > 0, f"{name} missing or empty"
     print(f"{'method':18} {'setting':18} {'rel. error':>10} {'wall [s]':>9} {'steps':>7}")
@@ -48,10 +50,11 @@ def main():
     order = math.log(e_i / e_j) / math.log(h_i / h_j)
     print(f"generalised-alpha observed order between steps {h_i:g} and {h_j:g} s: {order:.3f} (expected 2 +- 0.3)")
     assert abs(order - 2) <= 0.3, "generalised-alpha is not second order here"
-    e4 = float(next(r for r in ida if r["setting"] == "rtol 1e-04")["max_relative_error"])
-    e10 = float(next(r for r in ida if r["setting"] == "rtol 1e-10")["max_relative_error"])
-    print(f"IDA: relative error {e4:.2e} at rtol 1e-4, {e10:.2e} at rtol 1e-10 (expected a ratio >= 1e3)")
-    assert e4 / e10 >= 1e3, "IDA's error does not fall with its tolerance"
+    for name, runs in (("IDA", ida), ("Radau IIA", radau)):
+        e4 = float(next(r for r in runs if r["setting"] == "rtol 1e-04")["max_relative_error"])
+        e10 = float(next(r for r in runs if r["setting"] == "rtol 1e-10")["max_relative_error"])
+        print(f"{name}: relative error {e4:.2e} at rtol 1e-4, {e10:.2e} at rtol 1e-10 (expected a ratio >= 1e3)")
+        assert e4 / e10 >= 1e3, f"{name}'s error does not fall with its tolerance"
     print("bench output checked")
 
 
