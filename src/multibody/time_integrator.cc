@@ -125,19 +125,30 @@ std::string choose_automatic_settings(const System &system, IntegratorSettings &
       n_modes += w.size();
     }
   std::ostringstream note;
+  const auto pattern = system.jacobian_pattern();
+  const bool dense = dense_factorisation_is_faster(system, pattern);
   if (settings.automatic_method)
     {
       // Radau IIA is L-stable at order 5: it steps over elastic vibration far below the tolerances
       // without the instability of BDF 3-5 or the low order of BDF 2, and met the error and speed
       // targets of the scenes of prm/bench/default_*.prm where IDA missed them (doc/benchmarks.md).
-      // A scene that sets 'Maximum order' has tuned IDA: it keeps IDA.
+      // It factorises dense (a real and a complex LU): chosen where the Jacobian is dense anyway
+      // and small enough, up to 1000 unknowns (a complex dense LU of 1000 takes about 1 s here);
+      // a sparse scene (a chain of flexible links) keeps IDA with KLU. A scene that sets
+      // 'Maximum order' has tuned IDA: it keeps IDA.
       settings.automatic_method = false;
-      settings.method = n_modes > 0 && settings.automatic_max_order ? IntegrationMethod::radau : IntegrationMethod::ida;
-      if (settings.method == IntegrationMethod::radau)
+      const bool radau = n_modes > 0 && settings.automatic_max_order && dense && system.size() <= 1000;
+      settings.method = radau ? IntegrationMethod::radau : IntegrationMethod::ida;
+      if (radau)
         note << "method Radau IIA of order 5 (elastic modes up to " << base::number_text(highest / (2 * M_PI))
              << " Hz: L-stable, so vibration within the tolerances is stepped over at order 5)";
       else
-        note << "method IDA (" << (n_modes == 0 ? "every body rigid" : "'Maximum order' is set, an IDA setting") << ")";
+        note << "method IDA ("
+             << (n_modes == 0                        ? "every body rigid"
+                 : !settings.automatic_max_order     ? "'Maximum order' is set, an IDA setting"
+                 : system.size() > 1000              ? "more than 1000 unknowns: Radau's dense LUs would cost more"
+                                                     : "a sparse Jacobian: KLU, which Radau does not use")
+             << ")";
     }
   if (settings.automatic_max_order)
     {
@@ -178,11 +189,10 @@ std::string choose_automatic_settings(const System &system, IntegratorSettings &
     note << (note.tellp() > 0 ? "; " : "")
          << "the joints' multipliers not in the Newton test (their error reaches the velocities, which are tested)";
   // The factorisation of the Jacobian (multibody/jacobian_solver.h): said when it is not KLU.
-  const auto pattern = system.jacobian_pattern();
   if (settings.method == IntegrationMethod::radau)
     note << (note.tellp() > 0 ? "; " : "") << "Radau IIA's real and complex Newton matrices (" << system.size()
          << " unknowns) factorised by LAPACK's dense LU";
-  else if (dense_factorisation_is_faster(system, pattern))
+  else if (dense)
     {
       unsigned int largest = 0;
       for (unsigned int b = 0; b < system.n_bodies(); ++b) largest = std::max(largest, system.body(b).n_v());

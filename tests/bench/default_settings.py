@@ -8,6 +8,8 @@ turned by a motor under gravity; the driven double-arm sleeve). Each is run
   - with the defaults, three times, each under /usr/bin/time -v: the median CPU time (user +
     system, the whole process: start-up, cached reduced bodies loaded) against the simulated time;
     target: at least 1 simulated second per CPU second;
+  - with IDA and its automatic settings ('Method = ida', the default until Radau IIA came), once:
+    the baseline of the same day;
   - with the settings FlexTrack used before issue 24 (BDF order up to 5, velocities at the
     absolute tolerance), once, stopped after 600 s: the baseline the defaults replace ('failed'
     in the table when it stops early or does not reach the end within 'Maximum steps');
@@ -41,6 +43,7 @@ SCENES = {
 REFERENCE = {"Maximum order": "2", "Relative tolerance": "1e-9", "Absolute tolerance": "1e-11", "Velocity tolerance": "1e-8"}
 REFERENCE_CHECK = {"Maximum order": "2", "Relative tolerance": "1e-8", "Absolute tolerance": "1e-10", "Velocity tolerance": "1e-7"}
 BEFORE = {"Maximum order": "5", "Velocity tolerance": "0"}
+IDA = {"Method": "ida"}
 BEFORE_LIMIT = 600  # s of wall time for a run with the settings of before
 
 
@@ -113,7 +116,7 @@ def main():
         scene_file, _ = SCENES[key]
         text = open(os.path.join(bench, scene_file)).read()
         end = float(re.search(r"set End time\s*=\s*([\d.eE+-]+)", text).group(1))
-        variants = {"reference": REFERENCE, "reference_check": REFERENCE_CHECK, "before": BEFORE}
+        variants = {"reference": REFERENCE, "reference_check": REFERENCE_CHECK, "ida": IDA, "before": BEFORE}
         for tag, entries in variants.items():
             with open(os.path.join(bench, f"{key}_{tag}.prm"), "w") as f:
                 f.write(with_integrator(text, entries))
@@ -148,20 +151,24 @@ def main():
         default_out = os.path.join(work, key, f"default_{median_run}")
         error, extent = relative_error(default_out, reference)
         before_error = relative_error(results["before"][0], reference)[0] if results["before"][0] else math.nan
+        ida_error = relative_error(results["ida"][0], reference)[0]
         reference_error, _ = relative_error(results["reference_check"][0], reference)
         with open(os.path.join(default_out, "summary.json")) as f:
             summary = json.load(f)
         rows.append(dict(scene=key, end=end, cpu=statistics.median(cpu), error=error, extent=extent,
-                         steps=summary["integrator"]["steps"], before_cpu=results["before"][1], before_error=before_error,
+                         steps=summary["integrator"]["steps"], method=summary["integrator"]["method"],
+                         ida_cpu=results["ida"][1], ida_error=ida_error, before_cpu=results["before"][1], before_error=before_error,
                          reference_error=reference_error, chosen=summary["integrator"].get("chosen_for_this_scene", "")))
 
-    print(f"{'scene':24} {'sim [s]':>7} {'CPU [s]':>8} {'sim/CPU':>8} {'error':>9} {'steps':>7} | "
-          f"{'before: CPU':>11} {'error':>9} | {'ref. error':>10}")
+    print(f"{'scene':24} {'sim [s]':>7} {'method':>7} {'CPU [s]':>8} {'sim/CPU':>8} {'error':>9} {'steps':>7} | "
+          f"{'IDA: CPU':>8} {'error':>9} | {'before: CPU':>11} {'error':>9} | {'ref. error':>10}")
     for r in rows:
-        print(f"{r['scene']:24} {r['end']:7.2f} {r['cpu']:8.2f} {r['end'] / r['cpu']:8.2f} {r['error']:9.2e} {r['steps']:7d} | "
+        print(f"{r['scene']:24} {r['end']:7.2f} {r['method']:>7} {r['cpu']:8.2f} {r['end'] / r['cpu']:8.2f} {r['error']:9.2e} "
+              f"{r['steps']:7d} | {r['ida_cpu']:8.2f} {r['ida_error']:9.2e} | "
               + (f"{r['before_cpu']:11.2f} {r['before_error']:9.2e}" if r["before_cpu"] else f"{'failed':>11} {'-':>9}")
               + f" | {r['reference_error']:10.2e}")
-    print("error: max |r - r_ref| over the path's extent; CPU: median of the default runs, user + system, whole process")
+    print("error: max |r - r_ref| over the path's extent; CPU: median of the default runs (IDA, before: one run), "
+          "user + system, whole process")
     for r in rows:
         print(f"{r['scene']}: chosen: {r['chosen']}")
         speed = r["end"] / r["cpu"]
