@@ -494,7 +494,10 @@ double RadauIntegrator::integrate(const double t_end, const double output_interv
           ++stats.error_test_failures;
           rejected = true;
           h = stats.steps == 0 ? 0.1 * h : h / quotient;
-          if (!jacobian_fresh) have_jacobian = false;
+          // An old Jacobian under which Newton converged fast is not why the error was large:
+          // kept (RADAU5 takes a new one after every rejection; on a flexible pendulum whose first
+          // mode decides the step that was a Jacobian per rejected step, a quarter of the steps).
+          if (!jacobian_fresh && theta > keep_jacobian_below) have_jacobian = false;
         }
       // Accept
       t_last = t_now;
