@@ -75,12 +75,6 @@ void GeneralizedAlphaIntegrator::reinitialize(const double t, const State &y0, c
   matrix_c = -1;
 }
 
-void GeneralizedAlphaIntegrator::set_root_functions(const unsigned int n, RootFunction g)
-{
-  n_roots = n;
-  root_function = std::move(g);
-}
-
 double GeneralizedAlphaIntegrator::weighted_norm(const State &d, const State &at) const
 {
   double sum = 0;
@@ -182,14 +176,11 @@ double GeneralizedAlphaIntegrator::local_error(const double h) const
 
 double GeneralizedAlphaIntegrator::integrate(const double t_end, const double output_interval, const Observer &output)
 {
-  roots.assign(n_roots, 0);
-  std::vector<double> g_old(n_roots), g_new(n_roots);
-  if (n_roots) root_function(t_now, y, yp, g_old.data());
+  start_roots(t_now, y, yp);
   const double t_first = t_now;
   double next_output = next_output_time(t_now, output_interval, t_end);
   const double tiny = 1e-12 * std::max(1.0, std::abs(t_end));
   long steps_here = 0;
-  State yo, ypo;
   while (t_now < t_end - tiny)
     {
       // Fixed steps end at t_first + k step exactly (no drift of a running sum), so output times
@@ -250,28 +241,7 @@ double GeneralizedAlphaIntegrator::integrate(const double t_end, const double ou
       y = y_new, yp = yp_new, w = w_new;
       ++stats.steps;
       stats.last_step = h;
-      // Roots: a sign change over the step, located on the interpolant
-      double t_stop = t_now;
-      if (n_roots)
-        {
-          root_function(t_now, y, yp, g_new.data());
-          t_stop = locate_roots(root_function, t_last, t_now, g_old, g_new, roots);
-          g_old = g_new;
-        }
-      const bool stopped = t_stop < t_now || std::any_of(roots.begin(), roots.end(), [](int r) { return r != 0; });
-      if (stopped && t_stop < t_now) // the step ends at the root: its state becomes the current one
-        {
-          interpolate(t_stop, yo, ypo);
-          t_now = t_stop;
-          y = yo, yp = ypo;
-        }
-      if (step_hook) step_hook(t_last, t_now);
-      output_until(t_now, t_end, output_interval, next_output, output);
-      if (stopped)
-        {
-          if (output) output(t_now, y, yp);
-          return t_now;
-        }
+      if (finish_step(t_last, t_now, y, yp, t_end, output_interval, next_output, output)) return t_now;
     }
   return t_now;
 }

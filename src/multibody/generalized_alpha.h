@@ -20,20 +20,17 @@
 
 namespace flextrack::multibody
 {
-class GeneralizedAlphaIntegrator : public TimeIntegrator
+class GeneralizedAlphaIntegrator : public OneStepIntegrator
 {
 public:
   GeneralizedAlphaIntegrator(System &system, const IntegratorSettings &settings);
 
   void initialize(double t0, const State &y, const State &yp) override;
-  void set_root_functions(unsigned int n, RootFunction g) override;
-  void set_step_hook(std::function<void(double t_begin, double t_end)> hook) override { step_hook = std::move(hook); }
   void reinitialize(double t, const State &y, const State &yp) override;
   double integrate(double t_end, double output_interval, const Observer &output) override;
   /// Cubic Hermite interpolation of y (and its derivative) over the last step; linear for the
   /// algebraic unknowns.
   void interpolate(double t, State &y, State &yp) const override;
-  const std::vector<int> &roots_found() const override { return roots; }
   IntegratorStatistics statistics() const override { return stats; }
   double time() const override { return t_now; }
 
@@ -72,10 +69,6 @@ private:
   /// too large step), as IDA's recoverable residual failure; empty if it could.
   std::string last_problem;
 
-  RootFunction root_function;
-  unsigned int n_roots = 0;
-  std::vector<int> roots;
-  std::function<void(double, double)> step_hook;
   IntegratorStatistics stats;
 };
 } // namespace flextrack::multibody

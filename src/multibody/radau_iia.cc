@@ -179,12 +179,6 @@ void RadauIntegrator::reinitialize(const double t, const State &y0, const State 
   update_weights();
 }
 
-void RadauIntegrator::set_root_functions(const unsigned int count, RootFunction g)
-{
-  n_roots = count;
-  root_function = std::move(g);
-}
-
 void RadauIntegrator::update_weights()
 {
   for (unsigned int i = 0; i < n; ++i) weight[i] = atol[i] < 0 ? 0.0 : 1 / (rtol * std::abs(y[i]) + atol[i]);
@@ -413,15 +407,13 @@ void RadauIntegrator::interpolate(const double t, State &yo, State &ypo) const
 
 double RadauIntegrator::integrate(const double t_end, const double output_interval, const Observer &output)
 {
-  roots.assign(n_roots, 0);
-  std::vector<double> g_old(n_roots), g_new(n_roots);
-  if (n_roots) root_function(t_now, y, yp, g_old.data());
+  start_roots(t_now, y, yp);
   double next_output = next_output_time(t_now, output_interval, t_end);
   const double tiny = 1e-12 * std::max(1.0, std::abs(t_end));
   long steps_here = 0;
   double h_accepted = 0, error_accepted = 0; // of the last accepted step (Gustafsson's control)
   std::vector<State> Z(3, State(n));
-  State yo, ypo;
+  State yo;
   while (t_now < t_end - tiny)
     {
       double h = held_step > 0 ? held_step : h_next;
@@ -520,29 +512,10 @@ double RadauIntegrator::integrate(const double t_end, const double output_interv
       jacobian_fresh = false;
       have_jacobian = theta <= keep_jacobian_below;
       if (have_jacobian && h_next >= h && h_next <= 1.2 * h) h_next = h;
-      // Roots over the step, on the collocation polynomial
-      double t_stop = t_now;
-      if (n_roots)
-        {
-          root_function(t_now, y, yp, g_new.data());
-          t_stop = locate_roots(root_function, t_last, t_now, g_old, g_new, roots);
-          g_old = g_new;
-        }
-      const bool stopped = t_stop < t_now || std::any_of(roots.begin(), roots.end(), [](int r) { return r != 0; });
-      if (stopped && t_stop < t_now) // the step ends at the root: its state becomes the current one
-        {
-          interpolate(t_stop, yo, ypo);
-          t_now = t_stop;
-          y = yo, yp = ypo;
-          update_weights();
-        }
-      if (step_hook) step_hook(t_last, t_now);
-      output_until(t_now, t_end, output_interval, next_output, output);
-      if (stopped)
-        {
-          if (output) output(t_now, y, yp);
-          return t_now;
-        }
+      // Roots over the step, on the collocation polynomial; the step hook; the outputs
+      const bool stopped = finish_step(t_last, t_now, y, yp, t_end, output_interval, next_output, output);
+      update_weights(); // at the state reached (a root moves it back into the step)
+      if (stopped) return t_now;
     }
   return t_now;
 }

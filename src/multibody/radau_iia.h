@@ -38,22 +38,19 @@ struct RadauCoefficients
   static const RadauCoefficients &get();
 };
 
-class RadauIntegrator : public TimeIntegrator
+class RadauIntegrator : public OneStepIntegrator
 {
 public:
   RadauIntegrator(System &system, const IntegratorSettings &settings);
 
   void initialize(double t0, const State &y, const State &yp) override;
   void reinitialize(double t, const State &y, const State &yp) override;
-  void set_root_functions(unsigned int n, RootFunction g) override;
-  void set_step_hook(std::function<void(double t_begin, double t_end)> hook) override { step_hook = std::move(hook); }
   double integrate(double t_end, double output_interval, const Observer &output) override;
   /// The collocation polynomial of the last step (cubic, through y and the three stages).
   void interpolate(double t, State &y, State &yp) const override;
   /// Steps of exactly @p h [s] from now on, every one accepted (no error test; a Newton failure
   /// is a solver failure): for convergence studies of the method itself. 0: adaptive again.
   void hold_step(const double h) { held_step = h; }
-  const std::vector<int> &roots_found() const override { return roots; }
   IntegratorStatistics statistics() const override { return stats; }
   double time() const override { return t_now; }
 
@@ -102,10 +99,6 @@ private:
   double h_next = 0, convergence_factor = 1;
   double held_step = 0; ///< hold_step(); 0: adaptive
 
-  RootFunction root_function;
-  unsigned int n_roots = 0;
-  std::vector<int> roots;
-  std::function<void(double, double)> step_hook;
   IntegratorStatistics stats;
 };
 } // namespace flextrack::multibody

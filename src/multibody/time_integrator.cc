@@ -222,42 +222,63 @@ double TimeIntegrator::next_output_time(const double t_now, const double output_
   return std::min(output_origin + k * output_interval, t_end);
 }
 
-double TimeIntegrator::locate_roots(const RootFunction &g, const double t_begin, const double t_end,
-                                    const std::vector<double> &g_begin, const std::vector<double> &g_end,
-                                    std::vector<int> &found) const
+void OneStepIntegrator::set_root_functions(const unsigned int n, RootFunction g)
 {
-  double t_stop = t_end;
-  State yo, ypo;
-  std::vector<double> values(g_begin.size());
-  for (unsigned int i = 0; i < g_begin.size(); ++i)
-    if ((g_begin[i] < 0 && g_end[i] >= 0) || (g_begin[i] > 0 && g_end[i] <= 0))
-      {
-        double a = t_begin, b = t_end, ga = g_begin[i];
-        for (int it = 0; it < 200 && b - a > 1e-14 * std::max(1.0, std::abs(b)); ++it)
-          {
-            const double m = 0.5 * (a + b);
-            interpolate(m, yo, ypo);
-            g(m, yo, ypo, values.data());
-            if ((ga < 0) == (values[i] < 0)) a = m, ga = values[i];
-            else b = m;
-          }
-        if (b < t_stop) t_stop = b, std::fill(found.begin(), found.end(), 0);
-        if (b <= t_stop) found[i] = g_begin[i] < 0 ? 1 : -1;
-      }
-  return t_stop;
+  n_roots = n;
+  root_function = std::move(g);
 }
 
-void TimeIntegrator::output_until(const double t, const double t_end, const double output_interval, double &next_output,
-                                  const Observer &output) const
+void OneStepIntegrator::start_roots(const double t, const State &y, const State &yp)
 {
-  const double tiny = 1e-12 * std::max(1.0, std::abs(t_end));
+  roots.assign(n_roots, 0);
+  g_old.assign(n_roots, 0.0);
+  g_new.assign(n_roots, 0.0);
+  if (n_roots) root_function(t, y, yp, g_old.data());
+}
+
+bool OneStepIntegrator::finish_step(const double t_begin, double &t_now, State &y, State &yp, const double t_end,
+                                    const double output_interval, double &next_output, const Observer &output)
+{
   State yo, ypo;
-  while (output && next_output <= t + tiny)
+  double t_stop = t_now;
+  if (n_roots)
     {
-      interpolate(std::min(next_output, t), yo, ypo);
-      output(std::min(next_output, t), yo, ypo);
+      root_function(t_now, y, yp, g_new.data());
+      std::vector<double> values(n_roots);
+      for (unsigned int i = 0; i < n_roots; ++i)
+        if ((g_old[i] < 0 && g_new[i] >= 0) || (g_old[i] > 0 && g_new[i] <= 0))
+          {
+            double a = t_begin, b = t_now, ga = g_old[i];
+            for (int it = 0; it < 200 && b - a > 1e-14 * std::max(1.0, std::abs(b)); ++it)
+              {
+                const double m = 0.5 * (a + b);
+                interpolate(m, yo, ypo);
+                root_function(m, yo, ypo, values.data());
+                if ((ga < 0) == (values[i] < 0)) a = m, ga = values[i];
+                else b = m;
+              }
+            if (b < t_stop) t_stop = b, std::fill(roots.begin(), roots.end(), 0);
+            if (b <= t_stop) roots[i] = g_old[i] < 0 ? 1 : -1;
+          }
+      g_old = g_new;
+    }
+  const bool stopped = t_stop < t_now || std::any_of(roots.begin(), roots.end(), [](int r) { return r != 0; });
+  if (stopped && t_stop < t_now) // the step ends at the root: its state becomes the current one
+    {
+      interpolate(t_stop, yo, ypo);
+      t_now = t_stop;
+      y = yo, yp = ypo;
+    }
+  if (step_hook) step_hook(t_begin, t_now);
+  const double tiny = 1e-12 * std::max(1.0, std::abs(t_end));
+  while (output && next_output <= t_now + tiny)
+    {
+      interpolate(std::min(next_output, t_now), yo, ypo);
+      output(std::min(next_output, t_now), yo, ypo);
       if (next_output >= t_end - tiny) break;
       next_output = next_output_time(next_output, output_interval, t_end);
     }
+  if (stopped && output) output(t_now, y, yp);
+  return stopped;
 }
 } // namespace flextrack::multibody

@@ -120,16 +120,34 @@ public:
 protected:
   /// The first output time t0 + k dt after @p t_now (t0: output_origin), k >= 1.
   double next_output_time(double t_now, double output_interval, double t_end) const;
-  /// For the one-step methods: the root functions @p g that change sign over the step just taken
-  /// from @p t_begin to @p t_end (values @p g_begin, @p g_end), each located by bisection on
-  /// interpolate(). Returns the earliest such time (t_end if none) and sets @p found for the
-  /// functions that change sign there (+1 rising, -1 falling; left as it was if none does).
-  double locate_roots(const RootFunction &g, double t_begin, double t_end, const std::vector<double> &g_begin,
-                      const std::vector<double> &g_end, std::vector<int> &found) const;
-  /// For the one-step methods: calls @p output at every output time up to @p t (on
-  /// interpolate()), advancing @p next_output; none past @p t_end.
-  void output_until(double t, double t_end, double output_interval, double &next_output, const Observer &output) const;
   double output_origin = 0; ///< t0 of initialize() [s]
+};
+
+/// What the one-step methods (generalised-alpha, Radau IIA) share: root functions located on
+/// their own interpolant, the step hook and the outputs, after each accepted step.
+class OneStepIntegrator : public TimeIntegrator
+{
+public:
+  void set_root_functions(unsigned int n, RootFunction g) override;
+  void set_step_hook(std::function<void(double t_begin, double t_end)> hook) override { step_hook = std::move(hook); }
+  const std::vector<int> &roots_found() const override { return roots; }
+
+protected:
+  /// At the start of integrate(): no root found yet; the root functions' values at (t, y, yp).
+  void start_roots(double t, const State &y, const State &yp);
+  /// After the step from @p t_begin to @p t_now (interpolate() valid on it): the root functions
+  /// that change sign over it are located by bisection on interpolate() and (t_now, y, yp) moved
+  /// back to the earliest; then the step hook and the outputs due up to t_now (at most to
+  /// @p t_end). Returns true if a root ends the integration (its state is output too).
+  bool finish_step(double t_begin, double &t_now, State &y, State &yp, double t_end, double output_interval,
+                   double &next_output, const Observer &output);
+
+private:
+  RootFunction root_function;
+  unsigned int n_roots = 0;
+  std::vector<int> roots;
+  std::vector<double> g_old, g_new;
+  std::function<void(double, double)> step_hook;
 };
 
 /// The entries left "auto" in @p settings, chosen for @p system (the method, velocity tolerances

@@ -132,13 +132,11 @@ TEST(MultibodyRadau, large_amplitude_pendulum_period_found_by_root_finding)
 {
   // The compound pendulum of multibody_rigid_test.cc (m = 1.5 kg, L = 0.8 m, J_c = 0.02 kg m^2,
   // from 150 deg at rest): its period from the complete elliptic integral, 4 sqrt(I_p / (m g L))
-  // K(sin(theta0 / 2)), K by the arithmetic-geometric mean. The turning points (omega_z = 0) are
-  // roots located on Radau's collocation polynomial. Tolerance 1e-8 relative (issue 9's, for IDA).
-  const double m = 1.5, L = 0.8, Jc = 0.02, g = 9.81, theta0 = 150 * M_PI / 180;
-  System s(Vector3({0, -g, 0}));
-  add_rigid(s, "bob", m, diagonal(Jc, Jc, Jc), Vector3({L * std::sin(theta0), -L * std::cos(theta0), 0}),
-            geometry::euler_parameters_from_axis_angle(Vector3({0, 0, 1}), theta0));
-  add_joint(s, "revolute", "pivot", "bob", "ground", Vector3(), Vector3({0, 0, 1}));
+  // K(sin(theta0 / 2)), K by the arithmetic-geometric mean (add_large_amplitude_pendulum). The
+  // turning points (omega_z = 0) are roots located on Radau's collocation polynomial. Tolerance
+  // 1e-8 relative (issue 9's, for IDA).
+  System s(Vector3({0, -9.81, 0}));
+  const double period = add_large_amplitude_pendulum(s);
   s.finalize();
   Vector<double> y, yp;
   consistent_initial_conditions(s, 0, y, yp);
@@ -156,15 +154,6 @@ TEST(MultibodyRadau, large_amplitude_pendulum_period_found_by_root_finding)
       if (!radau.roots_found().empty() && radau.roots_found()[0] != 0) turning_points.push_back(t);
     }
   ASSERT_EQ(turning_points.size(), 2u);
-  double a = 1, b = std::sqrt(1 - std::pow(std::sin(theta0 / 2), 2));
-  for (int i = 0; i < 60 && std::abs(a - b) > 1e-16 * a; ++i)
-    {
-      const double mean = 0.5 * (a + b);
-      b = std::sqrt(a * b);
-      a = mean;
-    }
-  const double K = M_PI / (a + b); // pi / (2 agm)
-  const double period = 4 * std::sqrt((m * L * L + Jc) / (m * g * L)) * K;
   std::cout << std::setprecision(12) << "  Radau IIA: period " << turning_points[1] << " s, closed form " << period
             << " s, relative error " << std::abs(turning_points[1] - period) / period << "; "
             << radau.statistics().steps << " steps\n";

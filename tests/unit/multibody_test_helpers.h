@@ -72,6 +72,29 @@ inline Matrix3 diagonal(const double a, const double b, const double c)
   return J;
 }
 
+/// The compound pendulum of issue 9's test, added to @p s (gravity -9.81 m/s^2 along y): m =
+/// 1.5 kg, centre of mass at L = 0.8 m from the pivot, J_c = 0.02 kg m^2, a revolute joint 'pivot'
+/// about z at the origin, released at rest from 150 deg. Returns its period [s] in closed form:
+/// theta'' = -(m g L / I_p) sin theta with I_p = m L^2 + J_c gives 4 sqrt(I_p / (m g L))
+/// K(sin(theta0 / 2)), K(k) = pi / (2 agm(1, sqrt(1 - k^2))) by the arithmetic-geometric mean.
+inline double add_large_amplitude_pendulum(System &s)
+{
+  const double m = 1.5, L = 0.8, Jc = 0.02, g = 9.81, theta0 = 150 * M_PI / 180;
+  add_rigid(s, "bob", m, diagonal(Jc, Jc, Jc), Vector3({L * std::sin(theta0), -L * std::cos(theta0), 0}),
+            geometry::euler_parameters_from_axis_angle(Vector3({0, 0, 1}), theta0));
+  add_joint(s, "revolute", "pivot", "bob", "ground", Vector3(), Vector3({0, 0, 1}));
+  const double k = std::sin(theta0 / 2);
+  double a = 1, b = std::sqrt(1 - k * k);
+  for (int i = 0; i < 60 && std::abs(a - b) > 1e-16 * a; ++i)
+    {
+      const double mean = 0.5 * (a + b);
+      b = std::sqrt(a * b);
+      a = mean;
+    }
+  const double K = M_PI / (a + b); // pi / (2 agm)
+  return 4 * std::sqrt((m * L * L + Jc) / (m * g * L)) * K;
+}
+
 inline IntegratorSettings tight(const double rtol = 1e-10, const double atol = 1e-12)
 {
   IntegratorSettings s;
