@@ -52,7 +52,7 @@ void IntegratorSettings::declare_parameters(ParameterHandler &prm)
                     "(IDA's default 4). The slewing beam (6 modes, rtol 1e-5) needs 581 Jacobians with 4 and 309 "
                     "with 10; the laser robot gains nothing.");
   prm.declare_entry("Maximum step", "0", Patterns::Double(0), "Largest time step [s]; 0: no limit.");
-  prm.declare_entry("Initial step", "0", Patterns::Double(0), "First time step [s]; 0: IDA's estimate.");
+  prm.declare_entry("Initial step", "0", Patterns::Double(0), "First time step [s]; 0: IDA's estimate (Radau IIA: 1e-6 s).");
   prm.declare_entry("Maximum steps", "1000000", Patterns::Integer(1), "Internal steps allowed per run [-].");
   prm.declare_entry("Step", "1e-3", Patterns::Double(0),
                     "Generalised-alpha: the time step [s], > 0; the first step when 'Adaptive step' is on.");
