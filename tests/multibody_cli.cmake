@@ -37,6 +37,8 @@ flextrack_multibody_check(run_contact_on_arm_without_track_modes_is_said contact
                           ${CMAKE_SOURCE_DIR}/prm/slider_on_helix.prm)
 flextrack_multibody_check(run_end_stop_on_flexible_arm_with_generalized_alpha end_stop_on_flexible_arm_with_generalized_alpha
                           ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_end_stops.prm)
+flextrack_multibody_check(run_end_stop_on_flexible_arm_with_radau end_stop_on_flexible_arm_with_radau
+                          ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_end_stops.prm)
 flextrack_multibody_check(run_passage_timed_to_the_end_time_completes passage_ends_at_end_time
                           ${CMAKE_CURRENT_SOURCE_DIR}/track_input/slider_on_arc.prm)
 flextrack_multibody_check(run_energy_balance_of_a_run_starting_at_rest run_energy_balance_starting_at_rest
