@@ -35,7 +35,7 @@ constexpr double largest_growth = 8, largest_shrink = 5; ///< of the step, per s
 /// Keep the Jacobian for the next step when Newton contracted at least this fast. RADAU5 uses
 /// 1e-3 for cheap Jacobians and advises 0.1 for costly ones: ours is two assemblies and two LUs.
 constexpr double keep_jacobian_below = 0.1;
-constexpr double smallest_step = 1e-12; ///< [s]
+constexpr double smallest_step = 1e-12; ///< [s], or 16 eps |t| where that is larger
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
 void invert3(const double a[3][3], double r[3][3])
@@ -171,6 +171,7 @@ void RadauIntegrator::reinitialize(const double t, const State &y0, const State 
   yp = yp0;
   h_last = 0;
   have_step = false;
+  restart = true;
   have_jacobian = jacobian_fresh = false;
   factored_h = -1;
   convergence_factor = 1;
@@ -432,11 +433,13 @@ double RadauIntegrator::integrate(const double t_end, const double output_interv
       double theta = 0, err = 0;
       for (;;)
         {
-          if (h < smallest_step) fail("the step fell below 1e-12 s", h, "");
+          if (h < std::max(smallest_step, 16 * eps * std::abs(t_now)))
+            fail("the step fell below 1e-12 s (or below what changes t in double precision)", h, "");
           if (!have_jacobian && !evaluate_jacobian(t_now, y, yp))
             fail("the Jacobian cannot be evaluated at the step's start", h, "");
           if (factored_h != h && !factorize(h))
             {
+              if (jacobian_fresh && held_step > 0) fail("the Newton matrix is singular at the held step", h, "");
               if (jacobian_fresh) h *= 0.5;
               else have_jacobian = false; // an old Jacobian: take one at this state first
               continue;
@@ -470,7 +473,7 @@ double RadauIntegrator::integrate(const double t_end, const double output_interv
               continue;
             }
           if (held_step > 0) break; // every step accepted
-          err = local_error(h, Z, stats.steps == 0 || rejected);
+          err = local_error(h, Z, restart || rejected);
           const double factor = std::min(safety, safety * (1 + 2 * max_newton_iterations) /
                                                    (iterations + 2 * max_newton_iterations));
           double quotient = std::clamp(std::pow(err, 0.25) / factor, 1 / largest_growth, largest_shrink);
@@ -490,7 +493,7 @@ double RadauIntegrator::integrate(const double t_end, const double output_interv
             }
           ++stats.error_test_failures;
           rejected = true;
-          h = stats.steps == 0 ? 0.1 * h : h / quotient;
+          h = restart ? 0.1 * h : h / quotient;
           // An old Jacobian under which Newton converged fast is not why the error was large:
           // kept (RADAU5 takes a new one after every rejection; on a flexible pendulum whose first
           // mode decides the step that was a Jacobian per rejected step, a quarter of the steps).
@@ -510,6 +513,7 @@ double RadauIntegrator::integrate(const double t_end, const double output_interv
         }
       ++stats.steps;
       ++stats.order_histogram[5];
+      restart = false;
       stats.last_step = h;
       update_weights();
       // The Jacobian is kept while Newton contracts fast, and the factors while the step would
@@ -518,8 +522,12 @@ double RadauIntegrator::integrate(const double t_end, const double output_interv
       have_jacobian = theta <= keep_jacobian_below;
       if (have_jacobian && h_next >= h && h_next <= 1.2 * h) h_next = h;
       // Roots over the step, on the collocation polynomial; the step hook; the outputs
+      const double t_step_end = t_now;
       const bool stopped = finish_step(t_last, t_now, y, yp, t_end, output_interval, next_output, output);
       update_weights(); // at the state reached (a root moves it back into the step)
+      // A root moved the state back into the step: its y' is the polynomial's, not the
+      // collocation's, so the next error estimate is refined as on a first step.
+      if (t_now < t_step_end) restart = true;
       if (stopped) return t_now;
     }
   return t_now;

@@ -88,6 +88,9 @@ private:
   State y_last;
   std::vector<State> Z_last;
   bool have_step = false;
+  /// The next step is the first after initialize(), reinitialize() or a root: its error estimate
+  /// is refined, and a rejection cuts it by 10 (RADAU5's first step).
+  bool restart = true;
 
   // Newton's matrices and their factors (column major)
   std::vector<double> J, M, E1;

@@ -18,8 +18,9 @@ using namespace dealii;
 void IntegratorSettings::declare_parameters(ParameterHandler &prm)
 {
   prm.declare_entry("Method", "auto", Patterns::Selection("auto|ida|radau|generalized_alpha"),
-                    "auto (the default): radau when a flexible body has elastic modes and 'Maximum order' is "
-                    "'auto', ida otherwise (the log says which); ida: SUNDIALS IDA, variable-order "
+                    "auto (the default): radau when a flexible body has elastic modes, 'Maximum order' is "
+                    "'auto' and the Jacobian is dense with at most 1000 unknowns, ida otherwise (the log says "
+                    "which); ida: SUNDIALS IDA, variable-order "
                     "variable-step BDF (Gear's method); radau: Radau IIA of order 5 (three stages, L-stable, "
                     "as Hairer & Wanner's RADAU5), adaptive step, dense LU; generalized_alpha: second-order "
                     "generalised-alpha with numerical damping of high frequencies set by 'Spectral radius at "
