@@ -1,5 +1,6 @@
 // Epetra matrix of the DAE Jacobian, factorised by KLU or LAPACK's dense LU (jacobian_solver.h).
 #include <multibody/jacobian_solver.h>
+#include <multibody/lapack.h>
 #include <multibody/system.h>
 
 #include <Epetra_CrsGraph.h>
@@ -13,14 +14,6 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
-
-extern "C"
-{
-  // LAPACK (Debian's liblapack, which deal.II links): LU with partial pivoting, and its solve.
-  void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
-  void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda, const int *ipiv,
-               double *b, const int *ldb, int *info);
-}
 
 namespace flextrack::multibody
 {
@@ -144,15 +137,25 @@ bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
   return true;
 }
 
+void copy_to_dense(const Epetra_CrsMatrix &A, std::vector<double> &column_major)
+{
+  const std::size_t n = A.NumMyRows();
+  column_major.assign(n * n, 0.0);
+  for (int r = 0; r < A.NumMyRows(); ++r)
+    {
+      int count = 0;
+      double *values = nullptr;
+      int *indices = nullptr;
+      A.ExtractMyRowView(r, count, values, indices);
+      const std::size_t row = A.RowMap().GID(r);
+      for (int k = 0; k < count; ++k) column_major[std::size_t(A.ColMap().GID(indices[k])) * n + row] = values[k];
+    }
+}
+
 bool JacobianSolver::factorize_dense()
 {
-  int *row_start = nullptr, *columns = nullptr;
-  double *values = nullptr;
-  compressed_rows(row_start, columns, values);
   const int n = map->NumMyElements();
-  std::fill(dense_factors.begin(), dense_factors.end(), 0.0);
-  for (int i = 0; i < n; ++i)
-    for (int k = row_start[i]; k < row_start[i + 1]; ++k) dense_factors[std::size_t(columns[k]) * n + i] = values[k];
+  copy_to_dense(*A, dense_factors);
   int info = 0;
   dgetrf_(&n, &n, dense_factors.data(), &n, dense_pivots.data(), &info);
   if (info < 0) throw std::logic_error("LAPACK dgetrf: argument " + std::to_string(-info) + " is invalid");

@@ -40,6 +40,8 @@ class System;
 bool dense_factorisation_is_faster(const System &system, const std::vector<std::vector<int>> &pattern);
 /// The share of the n^2 entries of an n x n matrix that @p pattern (each row's columns) holds.
 double pattern_fill(const std::vector<std::vector<int>> &pattern);
+/// @p A (square, serial) as a dense column-major n x n array, as LAPACK takes it.
+void copy_to_dense(const Epetra_CrsMatrix &A, std::vector<double> &column_major);
 
 class JacobianSolver
 {

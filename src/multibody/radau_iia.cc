@@ -1,26 +1,14 @@
 // Radau IIA of order 5 on the system's DAE (radau_iia.h).
 #include <multibody/radau_iia.h>
 
-#include <Epetra_CrsMatrix.h>
-#include <Epetra_Map.h>
+#include <multibody/jacobian_solver.h>
+#include <multibody/lapack.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <limits>
 #include <sstream>
-
-extern "C"
-{
-  // LAPACK (Debian's liblapack, which deal.II links): LU with partial pivoting and its solve, real
-  // and complex.
-  void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
-  void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda, const int *ipiv,
-               double *b, const int *ldb, int *info);
-  void zgetrf_(const int *m, const int *n, std::complex<double> *a, const int *lda, int *ipiv, int *info);
-  void zgetrs_(const char *trans, const int *n, const int *nrhs, const std::complex<double> *a, const int *lda,
-               const int *ipiv, std::complex<double> *b, const int *ldb, int *info);
-}
 
 namespace flextrack::multibody
 {
@@ -38,10 +26,16 @@ constexpr double keep_jacobian_below = 0.1;
 constexpr double smallest_step = 1e-12; ///< [s], or 16 eps |t| where that is larger
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
+double det3(const double a[3][3])
+{
+  return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+         a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+}
+
+/// r = a^-1 for 3 x 3 arrays, by cofactors (the method's constants below were measured with it).
 void invert3(const double a[3][3], double r[3][3])
 {
-  const double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                     a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+  const double det = det3(a);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       {
@@ -67,11 +61,7 @@ RadauCoefficients derive()
   const double tr = B[0][0] + B[1][1] + B[2][2];
   const double m = B[0][0] * B[1][1] - B[0][1] * B[1][0] + B[0][0] * B[2][2] - B[0][2] * B[2][0] + B[1][1] * B[2][2] -
                    B[1][2] * B[2][1];
-  double inverse_det[3][3], det_A = 0;
-  invert3(B, inverse_det); // = A
-  det_A = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-          A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-  const double det = 1 / det_A;
+  const double det = 1 / det3(A); // det B
   double x = 3.6;
   for (int it = 0; it < 50; ++it) x -= (((x - tr) * x + m) * x - det) / ((3 * x - 2 * tr) * x + m);
   r.gamma = x;
@@ -118,20 +108,6 @@ RadauCoefficients derive()
   return r;
 }
 
-/// Copies the system's sparse Jacobian into the dense column-major @p D (n x n).
-void to_dense(const Epetra_CrsMatrix &A, const unsigned int n, std::vector<double> &D)
-{
-  D.assign(std::size_t(n) * n, 0.0);
-  for (int r = 0; r < A.NumMyRows(); ++r)
-    {
-      int count = 0;
-      double *values = nullptr;
-      int *indices = nullptr;
-      A.ExtractMyRowView(r, count, values, indices);
-      const std::size_t row = A.RowMap().GID(r);
-      for (int k = 0; k < count; ++k) D[std::size_t(A.ColMap().GID(indices[k])) * n + row] += values[k];
-    }
-}
 } // namespace
 
 const RadauCoefficients &RadauCoefficients::get()
@@ -204,9 +180,9 @@ bool RadauIntegrator::evaluate_jacobian(const double t, const State &y0, const S
   try
     {
       system.assemble_jacobian(t, 0.0, y0, yp0);
-      to_dense(system.jacobian(), n, J);
+      copy_to_dense(system.jacobian(), J);
       system.assemble_jacobian(t, 1.0, y0, yp0); // dF/dy + dF/dy': the Jacobian is affine in alpha
-      to_dense(system.jacobian(), n, M);
+      copy_to_dense(system.jacobian(), M);
     }
   catch (const std::exception &)
     {
@@ -256,7 +232,7 @@ RadauIntegrator::Outcome RadauIntegrator::newton(const double h, std::vector<Sta
   // 1e-11 m), nor below 10 eps / rtol.
   const double fnewt = std::max(10 * eps / rtol, std::min(0.03, std::max(1e-3, std::sqrt(rtol))));
   std::vector<State> F(3, State(n));
-  State stage(n), stage_derivative(n), dW1(n);
+  State stage(n), stage_derivative(n), dW1(n), re(n), im(n);
   std::vector<std::complex<double>> dW23(n);
   convergence_factor = std::pow(std::max(convergence_factor, eps), 0.8);
   double previous = 0, rate_before = 0;
@@ -296,7 +272,6 @@ RadauIntegrator::Outcome RadauIntegrator::newton(const double h, std::vector<Sta
         }
       dgetrs_("N", &size, &one, E1.data(), &size, pivots1.data(), dW1.data(), &size, &info);
       zgetrs_("N", &size, &one, E2.data(), &size, pivots2.data(), dW23.data(), &size, &info);
-      State re(n), im(n);
       for (unsigned int l = 0; l < n; ++l) re[l] = dW23[l].real(), im[l] = dW23[l].imag();
       const double a = weighted_norm(dW1.data()), b = weighted_norm(re.data()), c = weighted_norm(im.data());
       const double norm = std::sqrt((a * a + b * b + c * c) / 3);

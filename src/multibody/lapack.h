@@ -1,0 +1,16 @@
+// LAPACK's LU with partial pivoting and its solve, real and complex (Debian's liblapack, which
+// deal.II links): the dense factorisations of the Jacobian (jacobian_solver.cc) and of Radau IIA's
+// Newton matrices (radau_iia.cc).
+#pragma once
+
+#include <complex>
+
+extern "C"
+{
+  void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
+  void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda, const int *ipiv,
+               double *b, const int *ldb, int *info);
+  void zgetrf_(const int *m, const int *n, std::complex<double> *a, const int *lda, int *ipiv, int *info);
+  void zgetrs_(const char *trans, const int *n, const int *nrhs, const std::complex<double> *a, const int *lda,
+               const int *ipiv, std::complex<double> *b, const int *ldb, int *info);
+}
