@@ -47,7 +47,23 @@ GrowthWatch::GrowthWatch(const System &system_) : system(system_)
         for (const auto &p : reduced.interfaces) extend(p.position);
         for (const auto &p : reduced.output_points) extend(p.position);
         const double size = first ? 0.0 : (high - low).norm();
-        if (size > 0) watched.push_back({b, size});
+        if (size <= 0) continue;
+        const unsigned int n = body->n_modes();
+        std::vector<double> extent(n, 0.0);
+        const std::size_t P = reduced.points.size();
+        if (reduced.point_modes.size() == 3 * n * P)
+          for (unsigned int k = 0; k < n; ++k)
+            for (std::size_t i = 0; i < P; ++i)
+              {
+                const double *u = &reduced.point_modes[(k * P + i) * 3];
+                extent[k] = std::max(extent[k], std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+              }
+        for (const auto *points : {&reduced.interfaces, &reduced.output_points})
+          for (const auto &p : *points)
+            for (unsigned int k = 0; k < n; ++k)
+              extent[k] = std::max(extent[k], std::sqrt(p.modes(0, k) * p.modes(0, k) + p.modes(1, k) * p.modes(1, k) +
+                                                        p.modes(2, k) * p.modes(2, k)));
+        watched.push_back({b, size, std::move(extent)});
       }
 }
 
@@ -85,6 +101,10 @@ std::string GrowthWatch::check(const double t, const dealii::Vector<double> &y) 
 {
   for (const auto &w : watched)
     {
+      const double *eta = system.q_of(w.body, y) + 7;
+      double bound = 0;
+      for (unsigned int k = 0; k < w.mode_extent.size(); ++k) bound += w.mode_extent[k] * std::abs(eta[k]);
+      if (bound <= size_fraction * w.size) continue; // NaN falls through to the scan
       dealii::Point<3> where;
       const double u = largest_displacement(w.body, y, &where);
       if (u <= size_fraction * w.size) continue;

@@ -78,6 +78,13 @@ private:
   struct Klu; ///< KLU's settings, ordering and factors (the sparse path; jacobian_solver.cc)
   std::unique_ptr<Klu> klu;
   bool factorize_with_klu(bool fresh_pivots);
-  std::vector<int> index_buffer;
+  // For each stored entry, in the order of the compressed rows, sorted by column within each
+  // row: its global column and its place in the value array (add() finds an entry by bisection).
+  std::vector<int> entry_columns, entry_slots;
+  std::vector<int> slot_of; ///< up to 1500 unknowns: the place of (row, col) at row n + col, -1 outside the pattern
+  int *row_start = nullptr; ///< the matrix' own compressed rows (its storage is optimised: fixed)
+  double *values = nullptr;
+  unsigned int n_rows = 0;
+  double &entry(unsigned int row, unsigned int col);
 };
 } // namespace flextrack::multibody
