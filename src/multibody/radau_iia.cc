@@ -179,16 +179,13 @@ bool RadauIntegrator::evaluate_jacobian(const double t, const State &y0, const S
 {
   try
     {
-      system.assemble_jacobian(t, 0.0, y0, yp0);
+      system.assemble_jacobian_parts(t, y0, yp0, M); // dF/dy into the system's matrix, dF/dy' into M
       copy_to_dense(system.jacobian(), J);
-      system.assemble_jacobian(t, 1.0, y0, yp0); // dF/dy + dF/dy': the Jacobian is affine in alpha
-      copy_to_dense(system.jacobian(), M);
     }
   catch (const std::exception &)
     {
       return false;
     }
-  for (std::size_t k = 0; k < M.size(); ++k) M[k] -= J[k];
   ++stats.jacobian_evaluations;
   have_jacobian = jacobian_fresh = true;
   factored_h = -1;

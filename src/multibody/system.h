@@ -117,6 +117,13 @@ public:
                 dealii::Vector<double> &F) const;
   /// dF/dy + alpha dF/dy' into jacobian(); counts evaluations.
   void assemble_jacobian(double t, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
+  /// dF/dy into jacobian() and dF/dy' into @p dF_dyp (dense, column major, size() x size()) in one
+  /// pass: the Jacobian at alpha = 0 and the terms alpha multiplies, which only the kinematic rows
+  /// (q'), the bodies' equations of motion (M(q) v', geometric stiffening) and the joints' own q'
+  /// hold. Radau IIA needs both; two assemblies at alpha = 0 and 1 evaluated every joint and
+  /// force twice. Counts one evaluation.
+  void assemble_jacobian_parts(double t, const dealii::Vector<double> &y, const dealii::Vector<double> &yp,
+                               std::vector<double> &dF_dyp);
   const Epetra_CrsMatrix &jacobian() const;
   /// The Jacobian's sparsity pattern, row by row: every element's rows x (its columns, its
   /// multipliers), and the diagonal; each row's columns sorted, without repeats.
@@ -235,6 +242,10 @@ private:
   bool analytic_force_block(unsigned int f, double t, const dealii::Vector<double> &y);
   /// Body @p b's rows of the Jacobian, analytic (Body::equation_jacobians).
   void body_jacobian(unsigned int b, double alpha, const dealii::Vector<double> &y, const dealii::Vector<double> &yp);
+  /// The Jacobian's terms in y' (times alpha): into the solver, or, during
+  /// assemble_jacobian_parts, unscaled into its dense array.
+  void add_derivative_term(unsigned int row, unsigned int col, double alpha, double value);
+  std::vector<double> *derivative_terms = nullptr; ///< set during assemble_jacobian_parts only
 
   Vector3 g;
   std::vector<BodySlot> bodies;

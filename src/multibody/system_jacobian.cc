@@ -243,7 +243,7 @@ void System::body_jacobian(const unsigned int b, const double alpha, const Vecto
   const double mu = y[m0 + s.normalisation];
   // Kinematic rows q' - T(q) v + 2 p mu: alpha on q'; -1 on R', omega -> p' = G(p)^T omega / 2
   // (G linear in p: its derivative is G of the unit vectors), eta'; 2 mu on p.
-  for (unsigned int i = 0; i < n_q; ++i) solver->add(s.q + i, s.q + i, alpha);
+  for (unsigned int i = 0; i < n_q; ++i) add_derivative_term(s.q + i, s.q + i, alpha, 1.0);
   for (unsigned int a = 0; a < 3; ++a) solver->add(s.q + a, nq + s.v + a, -1);
   for (unsigned int k = 0; k < n_q - 7; ++k) solver->add(s.q + 7 + k, nq + s.v + 6 + k, -1);
   const auto G = geometry::body_velocity_matrix({{q[3], q[4], q[5], q[6]}});
@@ -262,10 +262,14 @@ void System::body_jacobian(const unsigned int b, const double alpha, const Vecto
   // Equations of motion: dF/dq, dF/dv + alpha dF/dv'.
   FullMatrix<double> dq, dv, dvp;
   s.body->equation_jacobians(q, v, vp, g, dq, dv, dvp);
-  dv.add(alpha, dvp);
   std::vector<unsigned int> v_rows(n_v), q_cols(n_q);
   for (unsigned int i = 0; i < n_v; ++i) v_rows[i] = nq + s.v + i;
   for (unsigned int i = 0; i < n_q; ++i) q_cols[i] = s.q + i;
+  if (derivative_terms)
+    for (unsigned int i = 0; i < n_v; ++i)
+      for (unsigned int k = 0; k < n_v; ++k) add_derivative_term(v_rows[i], v_rows[k], alpha, dvp(i, k));
+  else
+    dv.add(alpha, dvp);
   add_local(v_rows, q_cols, dq);
   add_local(v_rows, v_rows, dv);
 }
@@ -324,7 +328,7 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
       FullMatrix<double> Phi_q;
       joint_position_jacobian(j, y, ev, Phi_q);
       const unsigned int n_qc = Phi_q.n(), n_vc = e.columns.size() - n_qc;
-      for (unsigned int i = 0; i < n_own; ++i) solver->add(s.own_q + i, s.own_q + i, alpha);
+      for (unsigned int i = 0; i < n_own; ++i) add_derivative_term(s.own_q + i, s.own_q + i, alpha, 1.0);
       for (unsigned int r = 0; r < m; ++r)
         {
           for (unsigned int c = 0; c < n_qc; ++c)
@@ -346,6 +350,31 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
     }
   for (unsigned int f = 0; f < forces.size(); ++f)
     if (!analytic_force_block(f, t, y)) element_differences(force_element, f, t, y, yp);
+}
+
+void System::add_derivative_term(const unsigned int row, const unsigned int col, const double alpha, const double value)
+{
+  if (derivative_terms)
+    (*derivative_terms)[std::size_t(col) * size() + row] += value;
+  else
+    solver->add(row, col, alpha * value);
+}
+
+void System::assemble_jacobian_parts(const double t, const Vector<double> &y, const Vector<double> &yp,
+                                     std::vector<double> &dF_dyp)
+{
+  dF_dyp.assign(std::size_t(size()) * size(), 0.0);
+  derivative_terms = &dF_dyp;
+  try
+    {
+      assemble_jacobian(t, 0.0, y, yp);
+    }
+  catch (...)
+    {
+      derivative_terms = nullptr;
+      throw;
+    }
+  derivative_terms = nullptr;
 }
 
 bool System::factorize(const bool fresh_pivots)

@@ -141,13 +141,13 @@ TEST(MultibodyFlexible, free_floating_body_conserves_energy_without_damping)
   EXPECT_LT(fine.angular_momentum, 1e-9);
 }
 
-TEST(MultibodyFlexible, jacobian_with_flexible_body_matches_central_differences)
+namespace
 {
-  // A flexible rod hinged to the ground at its tip interface (revolute), under gravity, geometric
-  // stiffening on, at a random inconsistent state. Reference: central differences of the whole
-  // residual (h = 1e-6 (1 + |y|)); tolerance 1e-7 relative to the largest entry.
+/// A flexible rod hinged to the ground at its tip interface (revolute), under gravity, geometric
+/// stiffening on, at a random inconsistent state (y, yp).
+void hinged_rod_off_its_solution(System &s, Vector<double> &y, Vector<double> &yp)
+{
   const auto rod = free_rod();
-  System s(Vector3({0, 0, -9.81}));
   s.add_body(std::make_unique<FloatingBody>("rod", rod, FlexibleOptions(), vibrating_and_spinning(rod->n_modes())));
   std::vector<double> q(s.body(1).n_q()), v(s.body(1).n_v());
   s.body(1).initial_coordinates(q.data(), v.data());
@@ -162,12 +162,21 @@ TEST(MultibodyFlexible, jacobian_with_flexible_body_matches_central_differences)
   prm.set("Interface 1", "tip");
   s.add_joint(create_joint("hinge", prm, s.body_lookup()));
   s.finalize();
-  Vector<double> y, yp;
   s.initial_guess(y);
   yp.reinit(y.size());
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);
   for (unsigned int i = 0; i < y.size(); ++i) y[i] += 0.01 * u(rng), yp[i] = 0.3 * u(rng);
+}
+} // namespace
+
+TEST(MultibodyFlexible, jacobian_with_flexible_body_matches_central_differences)
+{
+  // Reference: central differences of the whole residual (h = 1e-6 (1 + |y|)); tolerance 1e-7
+  // relative to the largest entry.
+  System s(Vector3({0, 0, -9.81}));
+  Vector<double> y, yp;
+  hinged_rod_off_its_solution(s, y, yp);
   const double t = 0.1, alpha = 50;
   s.assemble_jacobian(t, alpha, y, yp);
   Vector<double> Fp, Fm;
@@ -196,4 +205,49 @@ TEST(MultibodyFlexible, jacobian_with_flexible_body_matches_central_differences)
   std::cout << "  flexible Jacobian " << y.size() << " x " << y.size() << ": max |J - J_fd| = " << worst
             << ", max |J_fd| = " << largest << "\n";
   EXPECT_LT(worst, 1e-7 * largest);
+}
+
+TEST(MultibodyFlexible, jacobian_parts_in_y_and_y_prime_match_central_differences)
+{
+  // System::assemble_jacobian_parts (Radau IIA's J = dF/dy and M = dF/dy' in one pass) against
+  // central differences of the whole residual in y alone (h = 1e-6 (1 + |y|)) and in y' alone;
+  // tolerance 1e-7 relative to each matrix' largest entry, as for the whole Jacobian above.
+  // F is affine in y' (M(q) v', geometric stiffening linear in the frame accelerations), so a
+  // central difference in y' is exact but for rounding, which at h = 1e-6 is 3e-4 here (elastic
+  // forces of about 3e6 in the residual: eps 3e6 / h); h = 1e-2 (1 + |y'|) brings it to 1e-8, and
+  // any term not affine in y' would show as truncation error.
+  System s(Vector3({0, 0, -9.81}));
+  Vector<double> y, yp;
+  hinged_rod_off_its_solution(s, y, yp);
+  const double t = 0.1;
+  std::vector<double> M;
+  s.assemble_jacobian_parts(t, y, yp, M);
+  const unsigned int n = y.size();
+  ASSERT_EQ(M.size(), std::size_t(n) * n);
+  for (const bool in_y_prime : {false, true})
+    {
+      double worst = 0, largest = 0;
+      Vector<double> Fp, Fm;
+      for (unsigned int c = 0; c < n; ++c)
+        {
+          const Vector<double> &x = in_y_prime ? yp : y;
+          const double h = (in_y_prime ? 1e-2 : 1e-6) * (1 + std::abs(x[c]));
+          Vector<double> y1(y), y2(y), yp1(yp), yp2(yp);
+          (in_y_prime ? yp1 : y1)[c] += h;
+          (in_y_prime ? yp2 : y2)[c] -= h;
+          s.residual(t, y1, yp1, Fp);
+          s.residual(t, y2, yp2, Fm);
+          for (unsigned int r = 0; r < n; ++r)
+            {
+              const double fd = (Fp[r] - Fm[r]) / (2 * h);
+              const double a = in_y_prime ? M[std::size_t(c) * n + r] : matrix_entry(s.jacobian(), r, c);
+              largest = std::max(largest, std::abs(fd));
+              worst = std::max(worst, std::abs(fd - a));
+            }
+        }
+      std::cout << "  " << (in_y_prime ? "dF/dy'" : "dF/dy ") << " " << n << " x " << n << ": max |analytic - fd| = " << worst
+                << ", max |fd| = " << largest << "\n";
+      EXPECT_GT(largest, 0);
+      EXPECT_LT(worst, 1e-7 * largest);
+    }
 }
