@@ -126,10 +126,10 @@ double Curve::parameter_at(const double s) const
   // Newton's method on f(p) = s_i + int_{p_i}^p |y'| - s = 0, kept inside the bracket
   // [p_i, p_i+1] (f is monotone there): a step that leaves it, or a zero speed (a cusp), bisects
   // instead. The first guess is the cubic through the panel's ends with slopes dp/ds = 1/|y'|
-  // there (error O(panel^4), about 1e-9 of it on the laser robot's arm): Newton then needs one
-  // correction fewer than from the linear guess, and each costs 11 speed evaluations (perf:
-  // 3.6 % of the laser robot's run went to this function). A zero speed at an end keeps the
-  // linear guess.
+  // there: its error is O(panel^4) where the linear guess's is O(panel^2) on a curve whose speed
+  // varies along p, and each Newton correction costs 11 speed evaluations. (A curve of constant
+  // speed, as the laser robot's helical arm, gets the exact parameter from either.) A zero speed
+  // at an end keeps the linear guess.
   double lo = p_table[i], hi = p_table[i + 1];
   const double ds = s_table[i + 1] - s_table[i];
   double p = lo;
