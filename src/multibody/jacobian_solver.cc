@@ -105,6 +105,9 @@ void JacobianSolver::zero() { A->PutScalar(0.0); }
 
 double &JacobianSolver::entry(const unsigned int row, const unsigned int col)
 {
+  if (row >= n_rows || col >= n_rows)
+    throw std::logic_error("JacobianSolver: entry (" + std::to_string(row) + ", " + std::to_string(col) +
+                           ") outside the " + std::to_string(n_rows) + " x " + std::to_string(n_rows) + " matrix");
   int slot = -1;
   if (!slot_of.empty())
     slot = slot_of[std::size_t(row) * n_rows + col];
@@ -138,14 +141,14 @@ void JacobianSolver::compressed_rows(int *&row_start, int *&columns, double *&va
 
 bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
 {
-  int *row_start = nullptr, *columns = nullptr;
-  double *values = nullptr;
-  compressed_rows(row_start, columns, values);
+  int *starts = nullptr, *columns = nullptr;
+  double *entries = nullptr;
+  compressed_rows(starts, columns, entries);
   const int n = map->NumMyElements();
   klu_common *common = &klu->common;
   if (!klu->symbolic)
     {
-      klu->symbolic = klu_analyze(n, row_start, columns, common);
+      klu->symbolic = klu_analyze(n, starts, columns, common);
       if (!klu->symbolic)
         throw std::runtime_error("KLU could not order the Jacobian (status " + std::to_string(common->status) + ")");
     }
@@ -155,17 +158,17 @@ bool JacobianSolver::factorize_with_klu(const bool fresh_pivots)
       // / max |u_ii|) or a reciprocal pivot growth (KLU's rgrowth, max |a| / max |u| per column)
       // that fell by more than 1e3 against the last pivoted factorisation means the old pivots
       // have become small or grow the factors, which then lose digits: pivot afresh.
-      if (klu_refactor(row_start, columns, values, klu->symbolic, klu->numeric, common) &&
+      if (klu_refactor(starts, columns, entries, klu->symbolic, klu->numeric, common) &&
           klu_rcond(klu->symbolic, klu->numeric, common) && common->rcond > 1e-3 * klu->pivoted_rcond &&
-          klu_rgrowth(row_start, columns, values, klu->symbolic, klu->numeric, common) &&
+          klu_rgrowth(starts, columns, entries, klu->symbolic, klu->numeric, common) &&
           common->rgrowth > 1e-3 * klu->pivoted_rgrowth)
         return true;
     }
   if (klu->numeric) klu_free_numeric(&klu->numeric, common);
-  klu->numeric = klu_factor(row_start, columns, values, klu->symbolic, common);
+  klu->numeric = klu_factor(starts, columns, entries, klu->symbolic, common);
   if (!klu->numeric) return false; // singular (KLU_SINGULAR), or out of memory
   klu_rcond(klu->symbolic, klu->numeric, common);
-  klu_rgrowth(row_start, columns, values, klu->symbolic, klu->numeric, common);
+  klu_rgrowth(starts, columns, entries, klu->symbolic, klu->numeric, common);
   klu->pivoted_rcond = common->rcond;
   klu->pivoted_rgrowth = common->rgrowth;
   return true;

@@ -40,7 +40,8 @@ class System;
 bool dense_factorisation_is_faster(const System &system, const std::vector<std::vector<int>> &pattern);
 /// The share of the n^2 entries of an n x n matrix that @p pattern (each row's columns) holds.
 double pattern_fill(const std::vector<std::vector<int>> &pattern);
-/// @p A (square, serial) as a dense column-major n x n array, as LAPACK takes it.
+/// @p A (square, serial, storage optimised: JacobianSolver's is) as a dense column-major n x n
+/// array, as LAPACK takes it.
 void copy_to_dense(const Epetra_CrsMatrix &A, std::vector<double> &column_major);
 
 class JacobianSolver
@@ -79,7 +80,8 @@ private:
   std::unique_ptr<Klu> klu;
   bool factorize_with_klu(bool fresh_pivots);
   // For each stored entry, in the order of the compressed rows, sorted by column within each
-  // row: its global column and its place in the value array (add() finds an entry by bisection).
+  // row: its global column and its place in the value array (above 1500 unknowns add() bisects
+  // these; below, slot_of holds every place).
   std::vector<int> entry_columns, entry_slots;
   std::vector<int> slot_of; ///< up to 1500 unknowns: the place of (row, col) at row n + col, -1 outside the pattern
   int *row_start = nullptr; ///< the matrix' own compressed rows (its storage is optimised: fixed)

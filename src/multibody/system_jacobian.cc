@@ -364,17 +364,13 @@ void System::assemble_jacobian_parts(const double t, const Vector<double> &y, co
                                      std::vector<double> &dF_dyp)
 {
   dF_dyp.assign(std::size_t(size()) * size(), 0.0);
+  struct Redirect // the y' terms go to dF_dyp for this assembly only, also if it throws
+  {
+    std::vector<double> *&target;
+    ~Redirect() { target = nullptr; }
+  } redirect{derivative_terms};
   derivative_terms = &dF_dyp;
-  try
-    {
-      assemble_jacobian(t, 0.0, y, yp);
-    }
-  catch (...)
-    {
-      derivative_terms = nullptr;
-      throw;
-    }
-  derivative_terms = nullptr;
+  assemble_jacobian(t, 0.0, y, yp);
 }
 
 bool System::factorize(const bool fresh_pivots)

@@ -215,7 +215,9 @@ TEST(MultibodyFlexible, jacobian_parts_in_y_and_y_prime_match_central_difference
   // F is affine in y' (M(q) v', geometric stiffening linear in the frame accelerations), so a
   // central difference in y' is exact but for rounding, which at h = 1e-6 is 3e-4 here (elastic
   // forces of about 3e6 in the residual: eps 3e6 / h); h = 1e-2 (1 + |y'|) brings it to 1e-8, and
-  // any term not affine in y' would show as truncation error.
+  // a term cubic or higher in y' would show as truncation error. Also, M must equal the
+  // difference of the whole Jacobian at alpha = 1 and 0 (the two assemblies it replaces) to
+  // rounding: 1e-12 of the entries compared.
   System s(Vector3({0, 0, -9.81}));
   Vector<double> y, yp;
   hinged_rod_off_its_solution(s, y, yp);
@@ -250,4 +252,22 @@ TEST(MultibodyFlexible, jacobian_parts_in_y_and_y_prime_match_central_difference
       EXPECT_GT(largest, 0);
       EXPECT_LT(worst, 1e-7 * largest);
     }
+  std::vector<double> J0(std::size_t(n) * n), J1(std::size_t(n) * n);
+  s.assemble_jacobian(t, 0.0, y, yp);
+  for (unsigned int r = 0; r < n; ++r)
+    for (unsigned int c = 0; c < n; ++c) J0[std::size_t(c) * n + r] = matrix_entry(s.jacobian(), r, c);
+  s.assemble_jacobian(t, 1.0, y, yp);
+  // Per entry, relative to the entries subtracted (J reaches 4e8 where M is 5): rounding of
+  // J(1) - J(0) is eps times them.
+  double worst = 0;
+  for (unsigned int r = 0; r < n; ++r)
+    for (unsigned int c = 0; c < n; ++c)
+      {
+        const std::size_t k = std::size_t(c) * n + r;
+        const double J1 = matrix_entry(s.jacobian(), r, c);
+        const double scale = std::abs(J1) + std::abs(J0[k]) + std::abs(M[k]);
+        if (scale > 0) worst = std::max(worst, std::abs(J1 - J0[k] - M[k]) / scale);
+      }
+  std::cout << "  max |J(1) - J(0) - dF/dy'| / (|J(1)| + |J(0)| + |dF/dy'|) = " << worst << "\n";
+  EXPECT_LT(worst, 1e-12);
 }

@@ -6,6 +6,7 @@
 #include "multibody_test_helpers.h"
 
 #include <multibody/force.h>
+#include <multibody/jacobian_solver.h>
 
 #include <Epetra_CrsMatrix.h>
 
@@ -127,4 +128,51 @@ TEST(MultibodyJacobian, joint_jacobian_is_the_derivative_of_phi_along_the_motion
   for (unsigned int r = 0; r < B.m(); ++r) worst = std::max(worst, std::abs((phi_p[r] - phi_m[r]) / (2 * eps) - Bv[r]));
   std::cout << "  max |B v - dPhi/dt| = " << worst << "\n";
   EXPECT_LT(worst, 1e-8);
+}
+
+TEST(MultibodyJacobian, solver_finds_entries_by_table_and_by_bisection)
+{
+  // JacobianSolver::add finds an entry through a table of all n^2 places up to 1500 unknowns and
+  // by bisection of the row above: both, with KLU and the dense LU, on an arrow-shaped matrix
+  // A = tridiag(-1, 4, -1) + 0.5 in column 0, with b = A x for a chosen x (a manufactured
+  // solution): the solve must return x to 1e-12, copy_to_dense must hold exactly the entries
+  // added, and an entry outside the pattern or the matrix must be refused.
+  for (const int n : {50, 1600})
+    for (const bool dense : {false, true})
+      {
+        if (dense && n > 100) continue; // the dense LU of 1600 adds nothing here
+        std::vector<std::vector<int>> pattern(n);
+        for (int i = 0; i < n; ++i)
+          {
+            if (i > 1) pattern[i].push_back(0);
+            for (int j = std::max(0, i - 1); j <= std::min(n - 1, i + 1); ++j) pattern[i].push_back(j);
+          }
+        JacobianSolver solver(pattern, dense);
+        solver.zero();
+        std::vector<double> x(n), b(n, 0.0);
+        for (int i = 0; i < n; ++i) x[i] = std::sin(0.1 * i + 0.3);
+        for (int i = 0; i < n; ++i)
+          {
+            solver.add(i, i, 4.0);
+            b[i] += 4.0 * x[i];
+            if (i > 0) solver.add(i, i - 1, -1.0), b[i] -= x[i - 1];
+            if (i + 1 < n) solver.add(i, i + 1, -1.0), b[i] -= x[i + 1];
+            if (i > 1) solver.add(std::vector<unsigned int>{static_cast<unsigned int>(i)}, {0u}, std::vector<double>{0.5}.data()), b[i] += 0.5 * x[0];
+          }
+        std::vector<double> A;
+        copy_to_dense(solver.matrix(), A);
+        double sum = 0;
+        for (const double a : A) sum += a;
+        EXPECT_DOUBLE_EQ(sum, 4.0 * n - 2.0 * (n - 1) + 0.5 * (n - 2)) << "n = " << n;
+        EXPECT_EQ(A[std::size_t(0) * n + (n - 1)], 0.5); // (n - 1, 0), column major
+        ASSERT_TRUE(solver.factorize());
+        std::vector<double> solution(n);
+        solver.solve(b.data(), solution.data());
+        double worst = 0;
+        for (int i = 0; i < n; ++i) worst = std::max(worst, std::abs(solution[i] - x[i]));
+        EXPECT_LT(worst, 1e-12) << "n = " << n << (dense ? ", dense LU" : ", KLU");
+        EXPECT_THROW(solver.add(10, 40, 1.0), std::logic_error);     // inside the matrix, outside the pattern
+        EXPECT_THROW(solver.add(10, n, 1.0), std::logic_error);      // outside the matrix
+        EXPECT_THROW(solver.add(n + 3, 0, 1.0), std::logic_error);
+      }
 }
