@@ -74,8 +74,6 @@ void Curve::tabulate_arc_length(const std::vector<double> &breakpoints)
         }
     }
   total_length = s_table.back();
-  speed_table.resize(p_table.size());
-  for (std::size_t i = 0; i < p_table.size(); ++i) speed_table[i] = speed(p_table[i]);
   if (!std::isfinite(total_length))
     throw CurveError("the arc length of the " + name + " is not finite (a pole or an overflow of the coordinates)");
 }
@@ -123,24 +121,12 @@ double Curve::parameter_at(const double s) const
     return p0 + s;
   const auto it = std::upper_bound(s_table.begin(), s_table.end(), s);
   const std::size_t i = it == s_table.begin() ? 0 : std::min<std::size_t>(it - s_table.begin() - 1, s_table.size() - 2);
-  // Newton's method on f(p) = s_i + int_{p_i}^p |y'| - s = 0, kept inside the bracket
-  // [p_i, p_i+1] (f is monotone there): a step that leaves it, or a zero speed (a cusp), bisects
-  // instead. The first guess is the cubic through the panel's ends with slopes dp/ds = 1/|y'|
-  // there: its error is O(panel^4) where the linear guess's is O(panel^2) on a curve whose speed
-  // varies along p, and each Newton correction costs 11 speed evaluations. (A curve of constant
-  // speed, as the laser robot's helical arm, gets the exact parameter from either.) A zero speed
-  // at an end keeps the linear guess.
+  // Newton's method on f(p) = s_i + int_{p_i}^p |y'| - s = 0, started from the linear guess and
+  // kept inside the bracket [p_i, p_i+1] (f is monotone there): a step that leaves it, or a zero
+  // speed (a cusp), bisects instead.
   double lo = p_table[i], hi = p_table[i + 1];
   const double ds = s_table[i + 1] - s_table[i];
-  double p = lo;
-  if (ds > 0)
-    {
-      const double x = (s - s_table[i]) / ds;
-      p = lo + x * (hi - lo);
-      if (speed_table[i] > 0 && speed_table[i + 1] > 0)
-        p += x * (1 - x) * ((1 - x) * (ds / speed_table[i] - (hi - lo)) - x * (ds / speed_table[i + 1] - (hi - lo)));
-      p = std::clamp(p, lo, hi);
-    }
+  double p = ds > 0 ? std::clamp(lo + (s - s_table[i]) / ds * (hi - lo), lo, hi) : lo;
   for (int iteration = 0; iteration < 100; ++iteration)
     {
       const double residual = s_table[i] + gauss_integral(p_table[i], p) - s;

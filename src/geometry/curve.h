@@ -98,9 +98,8 @@ private:
   CurveVelocity velocity;
   double p0, p1;
   bool arc_length_parameter;
-  // Type I table: panel ends p_table[i] with arc lengths s_table[i] and speeds |y'(p_table[i])|
-  // (the slopes ds/dp there, for parameter_at's first guess).
-  std::vector<double> p_table, s_table, speed_table;
+  // Type I table: panel ends p_table[i] with arc lengths s_table[i].
+  std::vector<double> p_table, s_table;
   double total_length = 0;
   bool closed = false;
 };

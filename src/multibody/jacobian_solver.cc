@@ -76,18 +76,22 @@ JacobianSolver::JacobianSolver(const std::vector<std::vector<int>> &pattern, con
   int *columns = nullptr;
   compressed_rows(row_start, columns, values);
   n_rows = n;
-  if (n <= 1500) slot_of.assign(std::size_t(n) * n, -1);
-  entry_columns.resize(row_start[n]);
-  entry_slots.resize(row_start[n]);
-  for (int i = 0; i < n; ++i)
+  if (n <= 1500)
     {
-      std::vector<std::pair<int, int>> row;
-      for (int k = row_start[i]; k < row_start[i + 1]; ++k) row.emplace_back(A->ColMap().GID(columns[k]), k);
-      std::sort(row.begin(), row.end());
-      for (int k = row_start[i]; k < row_start[i + 1]; ++k)
+      slot_of.assign(std::size_t(n) * n, -1);
+      for (int i = 0; i < n; ++i)
+        for (int k = row_start[i]; k < row_start[i + 1]; ++k) slot_of[std::size_t(i) * n + A->ColMap().GID(columns[k])] = k;
+    }
+  else
+    {
+      entry_columns.resize(row_start[n]);
+      entry_slots.resize(row_start[n]);
+      for (int i = 0; i < n; ++i)
         {
-          std::tie(entry_columns[k], entry_slots[k]) = row[k - row_start[i]];
-          if (!slot_of.empty()) slot_of[std::size_t(i) * n + entry_columns[k]] = entry_slots[k];
+          std::vector<std::pair<int, int>> row;
+          for (int k = row_start[i]; k < row_start[i + 1]; ++k) row.emplace_back(A->ColMap().GID(columns[k]), k);
+          std::sort(row.begin(), row.end());
+          for (int k = row_start[i]; k < row_start[i + 1]; ++k) std::tie(entry_columns[k], entry_slots[k]) = row[k - row_start[i]];
         }
     }
   if (dense)

@@ -79,11 +79,12 @@ private:
   struct Klu; ///< KLU's settings, ordering and factors (the sparse path; jacobian_solver.cc)
   std::unique_ptr<Klu> klu;
   bool factorize_with_klu(bool fresh_pivots);
-  // For each stored entry, in the order of the compressed rows, sorted by column within each
-  // row: its global column and its place in the value array (above 1500 unknowns add() bisects
-  // these; below, slot_of holds every place).
+  /// Up to 1500 unknowns: the place in the value array of (row, col) at row n + col, -1 outside
+  /// the pattern.
+  std::vector<int> slot_of;
+  /// Above 1500 unknowns: for each stored entry, in the order of the compressed rows and sorted
+  /// by column within each row, its global column and its place in the value array (bisected).
   std::vector<int> entry_columns, entry_slots;
-  std::vector<int> slot_of; ///< up to 1500 unknowns: the place of (row, col) at row n + col, -1 outside the pattern
   int *row_start = nullptr; ///< the matrix' own compressed rows (its storage is optimised: fixed)
   double *values = nullptr;
   unsigned int n_rows = 0;
