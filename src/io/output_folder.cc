@@ -2,6 +2,8 @@
 #include <base/mpi_session.h>
 #include <io/output_folder.h>
 
+#include <cstdio>
+
 #include <mpi.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -194,8 +196,10 @@ double peak_memory_mib()
 
 std::string csv_number(const double v)
 {
-  std::ostringstream o;
-  o << std::setprecision(12) << v;
-  return o.str();
+  // What an ostream with setprecision(12) writes (both are printf's %.12g), without building a
+  // stream for every number: a run writes tens of them per output row.
+  char text[32];
+  const int n = std::snprintf(text, sizeof(text), "%.12g", v);
+  return std::string(text, n);
 }
 } // namespace flextrack::io

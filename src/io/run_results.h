@@ -14,6 +14,7 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <chrono>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -27,10 +28,13 @@ class IncrementalCsv
 public:
   IncrementalCsv(OutputFolder &folder, const std::string &name, const std::vector<std::string> &columns);
   void add_row(const std::vector<double> &values);
+  /// Writes out the rows still buffered (before anything reads the file).
+  void flush();
 
 private:
   std::string name;
   std::ofstream file;
+  std::chrono::steady_clock::time_point last_flush;
 };
 
 class Hdf5File;

@@ -36,7 +36,31 @@ reduction::InertiaInvariants without_modes(const reduction::InertiaInvariants &f
   inv.I4.reinit(3, 0);
   return inv;
 }
+
+/// x^T K x for the n x n matrix @p K (n = K.m(); x: n entries), without a copy of x.
+double quadratic_form(const FullMatrix<double> &K, const double *x)
+{
+  double sum = 0;
+  for (unsigned int j = 0; j < K.m(); ++j)
+    {
+      double row = 0;
+      for (unsigned int k = 0; k < K.n(); ++k) row += K(j, k) * x[k];
+      sum += x[j] * row;
+    }
+  return sum;
+}
 } // namespace
+
+void Body::mass_times(const double *q, const double *v_dot, double *Mv) const
+{
+  FullMatrix<double> M;
+  mass_matrix(q, M);
+  for (unsigned int i = 0; i < M.m(); ++i)
+    {
+      Mv[i] = 0;
+      for (unsigned int k = 0; k < M.n(); ++k) Mv[i] += M(i, k) * v_dot[k];
+    }
+}
 
 FloatingBody::FloatingBody(std::string name, const RigidProperties &properties, const InitialState &initial)
   : Body(std::move(name)), n(0), inv(rigid_invariants(properties)), start(initial)
@@ -90,6 +114,12 @@ std::string FloatingBody::v_name(const unsigned int i) const
 FrameState FloatingBody::frame(const double *q, const double *v) const
 {
   FrameState f;
+  frame_into(q, v, f);
+  return f;
+}
+
+void FloatingBody::frame_into(const double *q, const double *v, FrameState &f) const
+{
   f.R = Vector3({q[0], q[1], q[2]});
   f.p = {{q[3], q[4], q[5], q[6]}};
   f.A = geometry::rotation_matrix(f.p);
@@ -102,7 +132,8 @@ FrameState FloatingBody::frame(const double *q, const double *v) const
       f.omega = Vector3({v[3], v[4], v[5]});
       for (unsigned int k = 0; k < n; ++k) f.eta_dot[k] = v[6 + k];
     }
-  return f;
+  else
+    f.R_dot = f.omega = Vector3();
 }
 
 void FloatingBody::initial_coordinates(double *q, double *v) const
@@ -138,10 +169,18 @@ void FloatingBody::mass_matrix(const double *q, FullMatrix<double> &M) const
   inertia->mass_matrix(f.A, f.eta, M);
 }
 
+void FloatingBody::mass_times(const double *q, const double *v_dot, double *Mv) const
+{
+  thread_local FrameState f; // its modal vectors keep their storage between calls
+  frame_into(q, nullptr, f);
+  inertia->mass_times(f.A, f.eta, v_dot, Mv);
+}
+
 void FloatingBody::forces(const double *q, const double *v, const Vector3 &gravity, double *Q, const double *v_dot) const
 {
-  const FrameState f = frame(q, v);
-  thread_local Vector<double> Qv; // reused between calls: no heap allocation per evaluation
+  thread_local FrameState f; // reused between calls: no heap allocation per evaluation
+  frame_into(q, v, f);
+  thread_local Vector<double> Qv;
   inertia->quadratic_velocity(f.A, f.eta, f.omega, f.eta_dot, Qv);
   for (unsigned int i = 0; i < 6 + n; ++i) Q[i] = Qv[i];
 
@@ -179,10 +218,12 @@ void FloatingBody::forces(const double *q, const double *v, const Vector3 &gravi
 
 double FloatingBody::kinetic_energy(const double *q, const double *v) const
 {
-  FullMatrix<double> M;
-  mass_matrix(q, M);
-  Vector<double> vv(v, v + n_v());
-  return 0.5 * M.matrix_norm_square(vv);
+  thread_local std::vector<double> Mv;
+  Mv.resize(n_v());
+  mass_times(q, v, Mv.data());
+  double twice = 0;
+  for (unsigned int i = 0; i < n_v(); ++i) twice += v[i] * Mv[i];
+  return 0.5 * twice;
 }
 
 double FloatingBody::gravity_potential(const double *q, const Vector3 &gravity) const
@@ -207,16 +248,12 @@ std::vector<double> FloatingBody::modal_angular_frequencies() const
 
 double FloatingBody::strain_energy(const double *q) const
 {
-  if (n == 0) return 0;
-  Vector<double> eta(q + 7, q + 7 + n);
-  return 0.5 * K.matrix_norm_square(eta);
+  return 0.5 * quadratic_form(K, q + 7);
 }
 
 double FloatingBody::dissipation_power(const double *, const double *v) const
 {
-  if (n == 0) return 0;
-  Vector<double> eta_dot(v + 6, v + 6 + n);
-  return D.matrix_norm_square(eta_dot);
+  return quadratic_form(D, v + 6);
 }
 
 void FloatingBody::momentum(const double *q, const double *v, Vector3 &linear, Vector3 &angular) const

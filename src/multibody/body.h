@@ -75,6 +75,8 @@ public:
   virtual void coordinate_rates(const double *q, const double *v, double *q_dot) const = 0;
   /// M(q), n_v x n_v [kg, kg m, kg m^2].
   virtual void mass_matrix(const double *q, dealii::FullMatrix<double> &M) const = 0;
+  /// M(q) v_dot (n_v entries each), for the residual: by default through mass_matrix().
+  virtual void mass_times(const double *q, const double *v_dot, double *Mv) const;
   /// Q(q, v): quadratic-velocity, elastic, damping and gravity forces in v-coordinates.
   /// @p v_dot (n_v entries, or nullptr: taken as zero) enters only where a force depends on the
   /// accelerations: the geometric stiffness of a flexible body's inertial loads.
@@ -165,9 +167,12 @@ public:
   std::vector<double> modal_angular_frequencies() const;
 
   FrameState frame(const double *q, const double *v = nullptr) const;
+  /// frame() into @p f, whose vectors keep their storage (velocities zero without @p v).
+  void frame_into(const double *q, const double *v, FrameState &f) const;
   void initial_coordinates(double *q, double *v) const override;
   void coordinate_rates(const double *q, const double *v, double *q_dot) const override;
   void mass_matrix(const double *q, dealii::FullMatrix<double> &M) const override;
+  void mass_times(const double *q, const double *v_dot, double *Mv) const override;
   void forces(const double *q, const double *v, const Vector3 &gravity, double *Q,
               const double *v_dot = nullptr) const override;
   bool forces_depend_on_acceleration() const override { return stiffening; }

@@ -39,6 +39,7 @@ struct IdaIntegrator::Sundials
   N_Vector y = nullptr, yp = nullptr, id = nullptr;
   N_Vector atol = nullptr; ///< absolute tolerances; infinite: not in the Newton test (error_weights)
   N_Vector weights = nullptr, errors = nullptr; ///< for count_step_limiter()
+  N_Vector dky0 = nullptr, dky1 = nullptr;       ///< for interpolate(), twice per step
   SUNMatrix matrix = nullptr;
   SUNLinearSolver solver = nullptr;
 
@@ -47,7 +48,7 @@ struct IdaIntegrator::Sundials
     if (ida) IDAFree(&ida);
     if (solver) SUNLinSolFreeEmpty(solver);
     if (matrix) SUNMatFreeEmpty(matrix);
-    for (N_Vector v : {y, yp, id, atol, weights, errors})
+    for (N_Vector v : {y, yp, id, atol, weights, errors, dky0, dky1})
       if (v) N_VDestroy(v);
     if (context) SUNContext_Free(&context);
   }
@@ -373,13 +374,15 @@ void IdaIntegrator::count_step_limiter()
 
 void IdaIntegrator::interpolate(const double t, State &y, State &yp) const
 {
-  N_Vector a = N_VClone(sun->y), b = N_VClone(sun->y);
-  IDAGetDky(sun->ida, t, 0, a);
-  IDAGetDky(sun->ida, t, 1, b);
-  to_vector(a, y);
-  to_vector(b, yp);
-  N_VDestroy(a);
-  N_VDestroy(b);
+  if (!sun->dky0)
+    {
+      sun->dky0 = N_VClone(sun->y);
+      sun->dky1 = N_VClone(sun->y);
+    }
+  IDAGetDky(sun->ida, t, 0, sun->dky0);
+  IDAGetDky(sun->ida, t, 1, sun->dky1);
+  to_vector(sun->dky0, y);
+  to_vector(sun->dky1, yp);
 }
 
 IntegratorStatistics IdaIntegrator::statistics() const

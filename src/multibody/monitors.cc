@@ -87,16 +87,9 @@ MonitorValues Monitors::evaluate(const double t, const Vector<double> &y) const
 {
   MonitorValues m;
   m.time = t;
-  Vector<double> phi, phi_t, v(system.n_v()), r;
-  FullMatrix<double> B;
   // Every joint equation, the dropped (redundant) ones included: they hold only as long as they
   // depend on the others, and a monitor of the active ones alone would not see them fail.
-  system.constraints(t, y, true, phi, B, phi_t);
-  for (unsigned int i = 0; i < system.n_v(); ++i) v[i] = y[system.n_q() + i];
-  r = phi_t;
-  if (B.m()) B.vmult_add(r, v);
-  m.position_residual = phi.size() ? phi.linfty_norm() : 0.0;
-  m.velocity_residual = r.size() ? r.linfty_norm() : 0.0;
+  system.constraint_residuals(t, y, m.position_residual, m.velocity_residual);
   for (unsigned int i = system.n_q() + system.n_v() + system.n_lambda(); i < system.size(); ++i)
     m.max_mu = std::max(m.max_mu, std::abs(y[i]));
   for (unsigned int b = 1; b < system.n_bodies(); ++b)

@@ -237,17 +237,12 @@ void System::body_residual(const unsigned int b, const double t, const Vector<do
   const double mu = y[nq + nv + nlambda + s.normalisation];
   for (unsigned int i = 0; i < 4; ++i) out[3 + i] += 2 * q[3 + i] * mu;
   // F_v = M v' - Q
-  thread_local FullMatrix<double> M; // reused between calls: no heap allocation per body
-  thread_local std::vector<double> Q;
+  thread_local std::vector<double> Mvp, Q; // reused between calls: no heap allocation per body
+  Mvp.resize(n_v);
   Q.resize(n_v);
-  s.body->mass_matrix(q, M);
+  s.body->mass_times(q, vp, Mvp.data());
   s.body->forces(q, v, g, Q.data(), vp);
-  for (unsigned int i = 0; i < n_v; ++i)
-    {
-      double Mvp = 0;
-      for (unsigned int k = 0; k < n_v; ++k) Mvp += M(i, k) * vp[k];
-      out[n_q + i] = Mvp - Q[i];
-    }
+  for (unsigned int i = 0; i < n_v; ++i) out[n_q + i] = Mvp[i] - Q[i];
   out[n_q + n_v] = q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6] - 1;
 }
 

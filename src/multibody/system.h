@@ -146,6 +146,9 @@ public:
   /// Joint equations (all, or the active ones) at y: Phi, B (rows x n_v) and Phi_t.
   void constraints(double t, const dealii::Vector<double> &y, bool all_equations, dealii::Vector<double> &phi,
                    dealii::FullMatrix<double> &B, dealii::Vector<double> &phi_t) const;
+  /// The largest |Phi| and |B v + Phi_t| over every joint equation (the dropped ones included),
+  /// as from constraints(.., true, ..) without forming B; NaN where a row is NaN.
+  void constraint_residuals(double t, const dealii::Vector<double> &y, double &position, double &velocity) const;
   /// (joint, equation) of each row of constraints(.., all_equations, ..).
   std::vector<std::pair<unsigned int, unsigned int>> constraint_rows(bool all_equations) const;
   /// q += T(q) dx for a displacement dx in v-coordinates; Euler parameters renormalised.

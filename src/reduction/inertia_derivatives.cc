@@ -31,29 +31,23 @@ void FloatingFrameInertia::derivatives(const Tensor<2, 3> &A, const Vector<doubl
   auto I3 = [&](const unsigned int k) { return Tensor<1, 3>({inv.I3(0, k), inv.I3(1, k), inv.I3(2, k)}); };
 
   // The state-dependent invariants, as in mass_matrix() and quadratic_velocity().
+  const EtaTerms &t = eta_terms(eta);
+  const std::vector<Tensor<2, 3>> &Ph = t.Ph;
+  const Tensor<2, 3> &J = t.J;
   Tensor<1, 3> I3ed, I3edd;
-  Tensor<2, 3> Pe, Qee, Ph_eta_dot; // Ph_eta_dot = sum_k eta'_k Ph_k
-  std::vector<Tensor<2, 3>> Ph(n);
-  std::vector<Tensor<1, 3>> coriolis(n); // sum_j eta'_j I5_jk
-  d.S = inv.first_moment;
+  Tensor<2, 3> Ph_eta_dot; // sum_k eta'_k Ph_k
+  thread_local std::vector<Tensor<1, 3>> coriolis; // sum_j eta'_j I5_jk (storage reused)
+  coriolis.assign(n, Tensor<1, 3>());
+  d.S = t.S;
   for (unsigned int k = 0; k < n; ++k)
     {
       const Tensor<1, 3> I3k = I3(k);
-      d.S += eta[k] * I3k;
       I3ed += eta_dot[k] * I3k;
       if (v_dot) I3edd += v_dot[6 + k] * I3k;
-      Ph[k] = inv.P[k];
-      for (unsigned int j = 0; j < n; ++j) Ph[k] += eta[j] * inv.Q[k * n + j];
-      Pe += eta[k] * inv.P[k];
       for (unsigned int j = 0; j < n; ++j) coriolis[k] += eta_dot[j] * i5[j * n + k];
-    }
-  for (unsigned int k = 0; k < n; ++k)
-    {
-      Qee += eta[k] * (Ph[k] - inv.P[k]);
       Ph_eta_dot += eta_dot[k] * Ph[k];
     }
   const Tensor<2, 3> one = unit_symmetric_tensor<3>();
-  const Tensor<2, 3> J = inv.inertia_origin + (2 * trace(Pe) + trace(Qee)) * one - Pe - transpose(Pe) - Qee;
   const Tensor<1, 3> Jw = J * w;
   const double w2 = w * w;
   d.h_R = -cross_product_3d(d.S, alpha) + I3edd + cross_product_3d(w, cross_product_3d(w, d.S)) + 2 * cross_product_3d(w, I3ed);

@@ -3,11 +3,20 @@
 
 #include <deal.II/lac/lapack_full_matrix.h>
 
+#include <algorithm>
+#include <array>
+#include <atomic>
+
 namespace flextrack::reduction
 {
 using namespace dealii;
 
 using geometry::skew;
+
+namespace
+{
+std::atomic<unsigned long long> next_id{1};
+}
 
 Point<3> InertiaInvariants::centre_of_mass() const { return Point<3>(first_moment / mass); }
 
@@ -24,53 +33,111 @@ Tensor<1, 3> InertiaInvariants::I5(const unsigned int j, const unsigned int k) c
 }
 
 FloatingFrameInertia::FloatingFrameInertia(const InertiaInvariants &invariants, const FullMatrix<double> &modal_mass)
-  : n(invariants.n_modes()), inv(invariants), modal_mass(modal_mass), i5(n * n)
+  : n(invariants.n_modes()), id(next_id++), inv(invariants), modal_mass(modal_mass), i5(n * n)
 {
   for (unsigned int j = 0; j < n; ++j)
     for (unsigned int k = 0; k < n; ++k) i5[j * n + k] = inv.I5(j, k);
 }
 
-void FloatingFrameInertia::mass_matrix(const Tensor<2, 3> &A, const Vector<double> &eta, FullMatrix<double> &M) const
+const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const Vector<double> &eta) const
 {
-  M.reinit(6 + n, 6 + n);
-  // S = s + I3 eta; J = J_O + 2 tr(Pe) 1 - Pe - Pe^T + tr(Qee) 1 - Qee.
-  Tensor<1, 3> S = inv.first_moment;
+  struct Entry
+  {
+    unsigned long long owner = 0;
+    std::vector<double> eta;
+    EtaTerms terms;
+  };
+  // A few inertias per thread (one per body that a residual visits in turn); the oldest goes.
+  thread_local std::array<Entry, 8> cache;
+  thread_local unsigned int next = 0;
+  for (Entry &e : cache)
+    if (e.owner == id && e.eta.size() == n && std::equal(e.eta.begin(), e.eta.end(), eta.begin())) return e.terms;
+  Entry *slot = nullptr;
+  for (Entry &e : cache)
+    if (e.owner == id) slot = &e; // this inertia's own entry, at another eta
+  if (!slot) slot = &cache[next++ % cache.size()];
+  slot->owner = id;
+  slot->eta.assign(eta.begin(), eta.end());
+  EtaTerms &t = slot->terms;
+  t.Ph.resize(n);
+  t.Mwf.resize(n);
+  t.S = inv.first_moment;
   Tensor<2, 3> Pe, Qee;
   for (unsigned int k = 0; k < n; ++k)
     {
-      for (unsigned int a = 0; a < 3; ++a) S[a] += inv.I3(a, k) * eta[k];
+      for (unsigned int a = 0; a < 3; ++a)
+        {
+          t.S[a] += inv.I3(a, k) * eta[k];
+          t.Mwf[k][a] = inv.I4(a, k);
+        }
+      t.Ph[k] = inv.P[k];
+      for (unsigned int j = 0; j < n; ++j)
+        {
+          t.Ph[k] += eta[j] * inv.Q[k * n + j];
+          t.Mwf[k] += eta[j] * i5[j * n + k];
+        }
       Pe += eta[k] * inv.P[k];
-      Tensor<2, 3> row; // sum_j eta_j Q_jk
-      for (unsigned int j = 0; j < n; ++j) row += eta[j] * inv.Q[j * n + k];
-      Qee += eta[k] * row;
     }
-  const Tensor<2, 3> J = inv.inertia_origin + (2 * trace(Pe) + trace(Qee)) * unit_symmetric_tensor<3>() - Pe -
-                         transpose(Pe) - Qee;
-  const Tensor<2, 3> MRw = -A * skew(S);
+  for (unsigned int k = 0; k < n; ++k) Qee += eta[k] * (t.Ph[k] - inv.P[k]); // sum_jk eta_j eta_k Q_kj
+  t.J = inv.inertia_origin + (2 * trace(Pe) + trace(Qee)) * unit_symmetric_tensor<3>() - Pe - transpose(Pe) - Qee;
+  return t;
+}
+
+void FloatingFrameInertia::mass_matrix(const Tensor<2, 3> &A, const Vector<double> &eta, FullMatrix<double> &M) const
+{
+  M.reinit(6 + n, 6 + n);
+  const EtaTerms &t = eta_terms(eta);
+  const Tensor<2, 3> MRw = -A * skew(t.S);
   for (unsigned int a = 0; a < 3; ++a)
     {
       M(a, a) = inv.mass;
       for (unsigned int b = 0; b < 3; ++b)
         {
           M(a, 3 + b) = M(3 + b, a) = MRw[a][b];
-          M(3 + a, 3 + b) = J[a][b];
+          M(3 + a, 3 + b) = t.J[a][b];
         }
     }
   for (unsigned int k = 0; k < n; ++k)
     {
-      Tensor<1, 3> AI3, Mwf; // A I3_k; I4_k + sum_j eta_j I5_jk
+      Tensor<1, 3> AI3; // A I3_k
       for (unsigned int a = 0; a < 3; ++a)
-        {
-          Mwf[a] = inv.I4(a, k);
-          for (unsigned int b = 0; b < 3; ++b) AI3[a] += A[a][b] * inv.I3(b, k);
-        }
-      for (unsigned int j = 0; j < n; ++j) Mwf += eta[j] * i5[j * n + k];
+        for (unsigned int b = 0; b < 3; ++b) AI3[a] += A[a][b] * inv.I3(b, k);
       for (unsigned int a = 0; a < 3; ++a)
         {
           M(a, 6 + k) = M(6 + k, a) = AI3[a];
-          M(3 + a, 6 + k) = M(6 + k, 3 + a) = Mwf[a];
+          M(3 + a, 6 + k) = M(6 + k, 3 + a) = t.Mwf[k][a];
         }
       for (unsigned int j = 0; j < n; ++j) M(6 + j, 6 + k) = modal_mass(j, k);
+    }
+}
+
+void FloatingFrameInertia::mass_times(const Tensor<2, 3> &A, const Vector<double> &eta, const double *v_dot,
+                                      double *Mv) const
+{
+  // The rows of mass_matrix() times (R'', omega', eta''): M_Rw omega' = -A (S x omega'),
+  // M_wR R'' = S x (A^T R''), M_fR R'' = I3_k . (A^T R'').
+  const EtaTerms &t = eta_terms(eta);
+  const Tensor<1, 3> a({v_dot[0], v_dot[1], v_dot[2]}), alpha({v_dot[3], v_dot[4], v_dot[5]});
+  const Tensor<1, 3> a_body = transpose(A) * a;
+  Tensor<1, 3> h = -cross_product_3d(t.S, alpha), r_w = cross_product_3d(t.S, a_body) + t.J * alpha;
+  for (unsigned int k = 0; k < n; ++k)
+    {
+      const double edd = v_dot[6 + k];
+      double r_k = t.Mwf[k] * alpha;
+      for (unsigned int b = 0; b < 3; ++b)
+        {
+          h[b] += inv.I3(b, k) * edd;
+          r_k += inv.I3(b, k) * a_body[b];
+        }
+      r_w += edd * t.Mwf[k];
+      for (unsigned int j = 0; j < n; ++j) r_k += modal_mass(k, j) * v_dot[6 + j];
+      Mv[6 + k] = r_k;
+    }
+  const Tensor<1, 3> r_R = inv.mass * a + A * h;
+  for (unsigned int b = 0; b < 3; ++b)
+    {
+      Mv[b] = r_R[b];
+      Mv[3 + b] = r_w[b];
     }
 }
 
@@ -79,27 +146,13 @@ void FloatingFrameInertia::quadratic_velocity(const Tensor<2, 3> &A, const Vecto
                                               Vector<double> &Qv) const
 {
   Qv.reinit(6 + n);
-  Tensor<1, 3> S = inv.first_moment, I3ed; // I3 etad
-  Tensor<2, 3> Pe, Qee;
-  thread_local std::vector<Tensor<2, 3>> Ph; // Ph_k = P_k + sum_j eta_j Q_kj (storage reused)
-  Ph.resize(n);
+  const EtaTerms &t = eta_terms(eta);
+  Tensor<1, 3> I3ed; // I3 etad
   for (unsigned int k = 0; k < n; ++k)
-    {
-      for (unsigned int a = 0; a < 3; ++a)
-        {
-          S[a] += inv.I3(a, k) * eta[k];
-          I3ed[a] += inv.I3(a, k) * eta_dot[k];
-        }
-      Ph[k] = inv.P[k];
-      for (unsigned int j = 0; j < n; ++j) Ph[k] += eta[j] * inv.Q[k * n + j];
-      Pe += eta[k] * inv.P[k];
-    }
-  for (unsigned int k = 0; k < n; ++k) Qee += eta[k] * (Ph[k] - inv.P[k]);
-  const Tensor<2, 3> J = inv.inertia_origin + (2 * trace(Pe) + trace(Qee)) * unit_symmetric_tensor<3>() - Pe -
-                         transpose(Pe) - Qee;
-  const Tensor<1, 3> QR = -(A * (cross_product_3d(w, cross_product_3d(w, S)) + 2 * cross_product_3d(w, I3ed)));
-  Tensor<1, 3> Qw = -cross_product_3d(w, J * w);
-  for (unsigned int k = 0; k < n; ++k) Qw -= 2 * eta_dot[k] * (trace(Ph[k]) * w - Ph[k] * w);
+    for (unsigned int a = 0; a < 3; ++a) I3ed[a] += inv.I3(a, k) * eta_dot[k];
+  const Tensor<1, 3> QR = -(A * (cross_product_3d(w, cross_product_3d(w, t.S)) + 2 * cross_product_3d(w, I3ed)));
+  Tensor<1, 3> Qw = -cross_product_3d(w, t.J * w);
+  for (unsigned int k = 0; k < n; ++k) Qw -= 2 * eta_dot[k] * (trace(t.Ph[k]) * w - t.Ph[k] * w);
   for (unsigned int a = 0; a < 3; ++a)
     {
       Qv[a] = QR[a];
@@ -110,7 +163,7 @@ void FloatingFrameInertia::quadratic_velocity(const Tensor<2, 3> &A, const Vecto
     {
       Tensor<1, 3> coriolis; // sum_j etad_j I5_jk
       for (unsigned int j = 0; j < n; ++j) coriolis += eta_dot[j] * i5[j * n + k];
-      Qv[6 + k] = -(w * (Ph[k] * w) - w2 * trace(Ph[k]) + 2 * (w * coriolis));
+      Qv[6 + k] = -(w * (t.Ph[k] * w) - w2 * trace(t.Ph[k]) + 2 * (w * coriolis));
     }
 }
 } // namespace flextrack::reduction

@@ -55,6 +55,9 @@ public:
   unsigned int size() const { return 6 + n; }
   /// Mass matrix (6 + n)^2 for rotation matrix @p A (body to global) and modal coordinates @p eta.
   void mass_matrix(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta, dealii::FullMatrix<double> &M) const;
+  /// M(A, eta) @p v_dot (6 + n entries each) without forming M: what a residual needs.
+  void mass_times(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta, const double *v_dot,
+                  double *Mv) const;
   /// Quadratic-velocity vector (6 + n) at (A, eta) with angular velocity @p omega (body axes) and
   /// modal velocities @p eta_dot.
   void quadratic_velocity(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta,
@@ -74,8 +77,23 @@ public:
                    const dealii::Vector<double> &eta_dot, const double *v_dot, Derivatives &d) const;
 
 private:
-  /// S = s + I3 eta, J(eta), Pe = sum_k eta_k P_k, and Ph_k.
+  /// The parts of M and Q_v that depend on eta alone, each O(n^2) to form: S = s + I3 eta,
+  /// J(eta), Ph_k = P_k + sum_j eta_j Q_kj and Mwf_k = I4_k + sum_j eta_j I5_jk.
+  struct EtaTerms
+  {
+    dealii::Tensor<1, 3> S;
+    dealii::Tensor<2, 3> J;
+    std::vector<dealii::Tensor<2, 3>> Ph;
+    std::vector<dealii::Tensor<1, 3>> Mwf;
+  };
+  /// The terms at @p eta. A residual evaluates M and Q_v at the same eta, and the Jacobian
+  /// again: each thread keeps the terms of the last eta per inertia, so that they are formed
+  /// once (they were 60 % of a 32-mode body's residual).
+  const EtaTerms &eta_terms(const dealii::Vector<double> &eta) const;
+
   unsigned int n;
+  /// Tells inertias apart in the per-thread cache of eta_terms() (an address can be reused).
+  unsigned long long id;
   InertiaInvariants inv;
   dealii::FullMatrix<double> modal_mass;
   std::vector<dealii::Tensor<1, 3>> i5; // n * n
