@@ -2,7 +2,7 @@
 #include <base/mpi_session.h>
 #include <io/output_folder.h>
 
-#include <cstdio>
+#include <charconv>
 
 #include <mpi.h>
 #include <sys/resource.h>
@@ -196,10 +196,11 @@ double peak_memory_mib()
 
 std::string csv_number(const double v)
 {
-  // What an ostream with setprecision(12) writes (both are printf's %.12g), without building a
-  // stream for every number: a run writes tens of them per output row.
-  char text[32];
-  const int n = std::snprintf(text, sizeof(text), "%.12g", v);
-  return std::string(text, n);
+  // What an ostream with setprecision(12) writes, printf's %.12g (std::to_chars with a precision
+  // is specified as that), without building a stream for every number: a run writes tens of
+  // them per output row.
+  char text[40];
+  const auto end = std::to_chars(text, text + sizeof(text), v, std::chars_format::general, 12).ptr;
+  return std::string(text, end);
 }
 } // namespace flextrack::io

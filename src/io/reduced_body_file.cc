@@ -6,6 +6,7 @@
 #include <reduction/arm_geometry.h>
 #include <reduction/plausibility.h>
 
+#include <hdf5.h>
 #include <mpi.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -395,6 +396,9 @@ int signal_of_trial_read(const std::string &file)
   int mpi_started = 0;
   MPI_Initialized(&mpi_started);
   if (mpi_started) return 0;
+  // The library is set up here, once in the parent: a child that set it up itself would do it
+  // again for every body it reads (about 10 ms each), and the parent too.
+  H5open();
   const pid_t child = fork();
   if (child < 0) return 0;
   if (child == 0)

@@ -114,12 +114,6 @@ std::string FloatingBody::v_name(const unsigned int i) const
 FrameState FloatingBody::frame(const double *q, const double *v) const
 {
   FrameState f;
-  frame_into(q, v, f);
-  return f;
-}
-
-void FloatingBody::frame_into(const double *q, const double *v, FrameState &f) const
-{
   f.R = Vector3({q[0], q[1], q[2]});
   f.p = {{q[3], q[4], q[5], q[6]}};
   f.A = geometry::rotation_matrix(f.p);
@@ -132,8 +126,7 @@ void FloatingBody::frame_into(const double *q, const double *v, FrameState &f) c
       f.omega = Vector3({v[3], v[4], v[5]});
       for (unsigned int k = 0; k < n; ++k) f.eta_dot[k] = v[6 + k];
     }
-  else
-    f.R_dot = f.omega = Vector3();
+  return f;
 }
 
 void FloatingBody::initial_coordinates(double *q, double *v) const
@@ -165,30 +158,29 @@ void FloatingBody::coordinate_rates(const double *q, const double *v, double *q_
 
 void FloatingBody::mass_matrix(const double *q, FullMatrix<double> &M) const
 {
-  const FrameState f = frame(q);
-  inertia->mass_matrix(f.A, f.eta, M);
+  inertia->mass_matrix(geometry::rotation_matrix({{q[3], q[4], q[5], q[6]}}), q + 7, M);
 }
 
 void FloatingBody::mass_times(const double *q, const double *v_dot, double *Mv) const
 {
-  thread_local FrameState f; // its modal vectors keep their storage between calls
-  frame_into(q, nullptr, f);
-  inertia->mass_times(f.A, f.eta, v_dot, Mv);
+  inertia->mass_times(geometry::rotation_matrix({{q[3], q[4], q[5], q[6]}}), q + 7, v_dot, Mv);
 }
 
 void FloatingBody::forces(const double *q, const double *v, const Vector3 &gravity, double *Q, const double *v_dot) const
 {
-  thread_local FrameState f; // reused between calls: no heap allocation per evaluation
-  frame_into(q, v, f);
-  thread_local Vector<double> Qv;
-  inertia->quadratic_velocity(f.A, f.eta, f.omega, f.eta_dot, Qv);
+  // Straight from q and v (A, omega; eta = q[7..], eta' = v[6..]): no copies per evaluation.
+  const Matrix3 A = geometry::rotation_matrix({{q[3], q[4], q[5], q[6]}});
+  const Vector3 omega({v[3], v[4], v[5]});
+  const double *eta = q + 7, *eta_dot = v + 6;
+  thread_local Vector<double> Qv; // reused between calls: no heap allocation per evaluation
+  inertia->quadratic_velocity(A, eta, omega, eta_dot, Qv);
   for (unsigned int i = 0; i < 6 + n; ++i) Q[i] = Qv[i];
 
   // Gravity: V = -g . (m R + A S), S = s + I3 eta.
-  const Vector3 g_body = transpose(f.A) * gravity;
+  const Vector3 g_body = transpose(A) * gravity;
   Vector3 S = inv.first_moment;
   for (unsigned int k = 0; k < n; ++k)
-    for (unsigned int a = 0; a < 3; ++a) S[a] += inv.I3(a, k) * f.eta[k];
+    for (unsigned int a = 0; a < 3; ++a) S[a] += inv.I3(a, k) * eta[k];
   const Vector3 torque = cross_product_3d(S, g_body);
   for (unsigned int a = 0; a < 3; ++a)
     {
@@ -207,13 +199,14 @@ void FloatingBody::forces(const double *q, const double *v, const Vector3 &gravi
   Vector3 acceleration = -g_body, angular_acceleration;
   if (v_dot)
     {
-      acceleration += transpose(f.A) * Vector3({v_dot[0], v_dot[1], v_dot[2]});
+      acceleration += transpose(A) * Vector3({v_dot[0], v_dot[1], v_dot[2]});
       angular_acceleration = Vector3({v_dot[3], v_dot[4], v_dot[5]});
     }
-  const FullMatrix<double> K_eff =
-    stiffening ? reduction::stiffness_with_inertial_loads(*reduced, f.omega, acceleration, angular_acceleration) : K;
+  thread_local FullMatrix<double> stiffened; // K plus the geometric stiffness (storage reused)
+  if (stiffening) stiffened = reduction::stiffness_with_inertial_loads(*reduced, omega, acceleration, angular_acceleration);
+  const FullMatrix<double> &K_eff = stiffening ? stiffened : K;
   for (unsigned int j = 0; j < n; ++j)
-    for (unsigned int k = 0; k < n; ++k) Q[6 + j] -= K_eff(j, k) * f.eta[k] + D(j, k) * f.eta_dot[k];
+    for (unsigned int k = 0; k < n; ++k) Q[6 + j] -= K_eff(j, k) * eta[k] + D(j, k) * eta_dot[k];
 }
 
 double FloatingBody::kinetic_energy(const double *q, const double *v) const

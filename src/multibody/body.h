@@ -167,8 +167,6 @@ public:
   std::vector<double> modal_angular_frequencies() const;
 
   FrameState frame(const double *q, const double *v = nullptr) const;
-  /// frame() into @p f, whose vectors keep their storage (velocities zero without @p v).
-  void frame_into(const double *q, const double *v, FrameState &f) const;
   void initial_coordinates(double *q, double *v) const override;
   void coordinate_rates(const double *q, const double *v, double *q_dot) const override;
   void mass_matrix(const double *q, dealii::FullMatrix<double> &M) const override;

@@ -47,8 +47,8 @@ void FloatingBody::equation_jacobians(const double *q, const double *v, const do
 {
   const FrameState f = frame(q, v);
   reduction::FloatingFrameInertia::Derivatives d;
-  inertia->derivatives(f.A, f.eta, f.omega, f.eta_dot, v_dot, d);
-  inertia->mass_matrix(f.A, f.eta, dF_dv_dot);
+  inertia->derivatives(f.A, f.eta.begin(), f.omega, f.eta_dot.begin(), v_dot, d);
+  inertia->mass_matrix(f.A, f.eta.begin(), dF_dv_dot);
   dF_dq.reinit(6 + n, 7 + n);
   dF_dv.reinit(6 + n, 6 + n);
 

@@ -374,15 +374,19 @@ void IdaIntegrator::count_step_limiter()
 
 void IdaIntegrator::interpolate(const double t, State &y, State &yp) const
 {
-  if (!sun->dky0)
-    {
-      sun->dky0 = N_VClone(sun->y);
-      sun->dky1 = N_VClone(sun->y);
-    }
+  if (!sun->dky0) sun->dky0 = N_VClone(sun->y);
+  if (!sun->dky1) sun->dky1 = N_VClone(sun->y);
   IDAGetDky(sun->ida, t, 0, sun->dky0);
   IDAGetDky(sun->ida, t, 1, sun->dky1);
   to_vector(sun->dky0, y);
   to_vector(sun->dky1, yp);
+}
+
+void IdaIntegrator::interpolate_state(const double t, State &y) const
+{
+  if (!sun->dky0) sun->dky0 = N_VClone(sun->y);
+  IDAGetDky(sun->ida, t, 0, sun->dky0);
+  to_vector(sun->dky0, y);
 }
 
 IntegratorStatistics IdaIntegrator::statistics() const

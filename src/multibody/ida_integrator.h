@@ -36,6 +36,7 @@ public:
   double integrate(double t_end, double output_interval, const Observer &output) override;
   /// y and y' at @p t within the last step (IDA's interpolating polynomial).
   void interpolate(double t, State &y, State &yp) const override;
+  void interpolate_state(double t, State &y) const override;
   const std::vector<int> &roots_found() const override { return roots; }
   IntegratorStatistics statistics() const override;
   double time() const override { return t_now; }

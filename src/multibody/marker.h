@@ -70,6 +70,16 @@ private:
   std::array<dealii::FullMatrix<double>, 5> velocity;
 };
 
+/// Derivatives of a marker's Jacobians with respect to one modal coordinate eta_k of its body,
+/// for a marker whose J_position and J_axes are affine in eta and depend on it only in their
+/// angular-velocity columns and their own coordinate's column (a track contact): index 0 is
+/// J_position, 1..3 J_axes[0..2].
+struct ModalJacobianDerivative
+{
+  std::array<Matrix3, 4> omega; ///< d J / d eta_k in the omega columns (3 x 3)
+  std::array<Vector3, 4> own;   ///< d J / d eta_k in the column of the (single) own coordinate
+};
+
 class Marker
 {
 public:
@@ -86,6 +96,15 @@ public:
   /// Its body-fixed form, if it has one (see BodyFixedForm); nullptr otherwise (a track contact,
   /// whose z depends on its arc length too).
   virtual const BodyFixedForm *body_fixed_form() const { return nullptr; }
+  /// For a marker without a body-fixed form: whether its Jacobians are of the form of
+  /// ModalJacobianDerivative and independent of the frame origin R, and then their derivatives
+  /// for every mode of its body (@p d resized to n_modes()), at body coordinates @p q and own
+  /// coordinates @p own. A joint differences the Jacobians of a marker that returns false.
+  virtual bool modal_jacobian_derivatives(const double * /*q*/, const double * /*own*/,
+                                          std::vector<ModalJacobianDerivative> & /*d*/) const
+  {
+    return false;
+  }
 
 private:
   const Body *on;

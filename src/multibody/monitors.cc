@@ -47,12 +47,12 @@ Powers Monitors::step_work(const double t0, const double t1, const bool whole_st
   // Simpson's rule on IDA's interpolating polynomial of the last step (valid on [t0, t1]).
   Powers w;
   if (!(t1 > t0) || !ida) return w;
-  Vector<double> y, yp;
+  thread_local Vector<double> y; // keeps its storage between steps
   Powers p[3];
   const double t[3] = {t0, 0.5 * (t0 + t1), t1};
   for (unsigned int i = 0; i < 3; ++i)
     {
-      ida->interpolate(t[i], y, yp);
+      ida->interpolate_state(t[i], y);
       const bool known = i == 0 && t[i] == last_time && y == last_state;
       p[i] = known ? last_powers : powers(t[i], y);
     }

@@ -39,10 +39,9 @@ const Epetra_CrsMatrix &System::jacobian() const
 void System::add_local(const std::vector<unsigned int> &rows, const std::vector<unsigned int> &cols,
                        const FullMatrix<double> &block)
 {
-  std::vector<double> values(rows.size() * cols.size());
-  for (unsigned int i = 0; i < rows.size(); ++i)
-    for (unsigned int k = 0; k < cols.size(); ++k) values[i * cols.size() + k] = block(i, k);
-  solver->add(rows, cols, values.data());
+  AssertDimension(block.m(), rows.size());
+  AssertDimension(block.n(), cols.size());
+  if (block.m() * block.n() > 0) solver->add(rows, cols, &block(0, 0)); // FullMatrix: row-major, contiguous
 }
 
 void System::element_differences(const unsigned int kind, const unsigned int index, const double t,

@@ -112,6 +112,12 @@ public:
   virtual double integrate(double t_end, double output_interval, const Observer &output) = 0;
   /// y and y' at @p t within the last step.
   virtual void interpolate(double t, State &y, State &yp) const = 0;
+  /// y alone at @p t within the last step (the monitors' quadrature of powers needs no y').
+  virtual void interpolate_state(double t, State &y) const
+  {
+    State yp;
+    interpolate(t, y, yp);
+  }
   /// Root functions that changed sign at the last stop (+1 / -1 direction, 0 none).
   virtual const std::vector<int> &roots_found() const = 0;
   virtual IntegratorStatistics statistics() const = 0;

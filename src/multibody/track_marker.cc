@@ -42,6 +42,77 @@ Matrix3 TrackMarker::section_axes(const double s) const
   return a * axes_offset;
 }
 
+double TrackMarker::clamped(const double s, double &beyond) const
+{
+  const double L = curve->length(), s_on = std::clamp(s, 0.0, L);
+  beyond = s - s_on;
+  if (!(std::abs(beyond) <= overrun_fraction * L))
+    {
+      std::ostringstream m;
+      m << "contact '" << name() << "' at s = " << s << " m is off its track [0, " << L << "] m";
+      throw std::out_of_range(m.str());
+    }
+  return s_on;
+}
+
+void TrackMarker::marker_axes(const Place &place, const double beyond, std::array<Vector3, 3> &axis,
+                              std::array<Vector3, 3> &axis_s, Vector3 *darboux) const
+{
+  const Vector3 t = place.g.tangent, t_s = place.g.derivative[1], d2 = place.d2, d2_s = place.d2_s;
+  const std::array<Vector3, 3> section_end = {{d2, cross_product_3d(t, d2), t}};
+  const std::array<Vector3, 3> section_s = {{d2_s, cross_product_3d(t_s, d2) + cross_product_3d(t, d2_s), t_s}};
+  std::array<Vector3, 3> section; // beyond an end: continued to first order, so B stays continuous
+  for (unsigned int k = 0; k < 3; ++k) section[k] = section_end[k] + beyond * section_s[k];
+  for (unsigned int c = 0; c < 3; ++c)
+    {
+      axis[c] = axis_s[c] = Vector3();
+      for (unsigned int k = 0; k < 3; ++k)
+        {
+          axis[c] += axes_offset[k][c] * section[k];
+          axis_s[c] += axes_offset[k][c] * section_s[k];
+        }
+    }
+  if (!darboux) return;
+  *darboux = Vector3();
+  for (unsigned int a = 0; a < 3; ++a) *darboux += 0.5 * cross_product_3d(section[a], section_s[a]);
+}
+
+bool TrackMarker::modal_jacobian_derivatives(const double *q, const double *own,
+                                             std::vector<ModalJacobianDerivative> &d) const
+{
+  // evaluate() below: u, theta and their slopes are sums of the mode fields times eta, and J
+  // takes them only in -A u~ and -A b_c~ (b_c = g_c + theta x g_c: the omega columns) and in
+  // A u_s, A (g_c,s + theta x g_c,s + theta_s x g_c) (the s column). R enters no Jacobian.
+  const unsigned int nv = body().n_v(), n = body().n_modes();
+  if (nv == 0) return false; // the ground: no coordinates to differentiate by
+  double beyond;
+  const Place &place = place_at(clamped(own[0], beyond));
+  std::array<Vector3, 3> axis, axis_s;
+  marker_axes(place, beyond, axis, axis_s);
+  const Matrix3 A = geometry::rotation_matrix({{q[3], q[4], q[5], q[6]}});
+  d.resize(n);
+  for (unsigned int m = 0; m < n; ++m)
+    {
+      Vector3 phi_u, phi_t, slope_u, slope_t; // mode m's fields at the place (continued beyond an end)
+      for (unsigned int c = 0; c < 3; ++c)
+        {
+          slope_u[c] = place.slope[6 * m + c];
+          slope_t[c] = place.slope[6 * m + 3 + c];
+          phi_u[c] = place.value[6 * m + c] + beyond * slope_u[c];
+          phi_t[c] = place.value[6 * m + 3 + c] + beyond * slope_t[c];
+        }
+      ModalJacobianDerivative &dm = d[m];
+      dm.omega[0] = -A * skew(phi_u);
+      dm.own[0] = A * slope_u;
+      for (unsigned int c = 0; c < 3; ++c)
+        {
+          dm.omega[1 + c] = -A * skew(cross_product_3d(phi_t, axis[c]));
+          dm.own[1 + c] = A * (cross_product_3d(phi_t, axis_s[c]) + cross_product_3d(slope_t, axis[c]));
+        }
+    }
+  return true;
+}
+
 const TrackMarker::Place &TrackMarker::place_at(const double s_on) const
 {
   if (s_on == last_place.s) return last_place;
@@ -66,34 +137,19 @@ void TrackMarker::evaluate(const double *q, const double *own, MarkerKinematics 
   for (auto &J : k.J_axes) J.reinit(3, nv + 1);
 
   // The place on the curve (straight continuation within the overrun zone, see the header).
-  const double L = curve->length(), s = own[0], s_on = std::clamp(s, 0.0, L), beyond = s - s_on;
-  if (!(std::abs(beyond) <= overrun_fraction * L))
-    {
-      std::ostringstream m;
-      m << "contact '" << name() << "' at s = " << s << " m is off its track [0, " << L << "] m";
-      throw std::out_of_range(m.str());
-    }
-  const Place &place = place_at(s_on);
+  double beyond;
+  const Place &place = place_at(clamped(own[0], beyond));
   const geometry::CurveGeometry &g = place.g;
   const Vector3 t = g.tangent, t_s = g.derivative[1];
-  const Vector3 d2 = place.d2, d2_s = place.d2_s;
-  const std::array<Vector3, 3> section_end = {{d2, cross_product_3d(t, d2), t}};
-  const std::array<Vector3, 3> section_s = {{d2_s, cross_product_3d(t_s, d2) + cross_product_3d(t, d2_s), t_s}};
-  std::array<Vector3, 3> section; // beyond an end: continued to first order, so B stays continuous
-  for (unsigned int k = 0; k < 3; ++k) section[k] = section_end[k] + beyond * section_s[k];
   std::array<Vector3, 3> axis, axis_s; // the marker's axes: section axes times the offset
-  for (unsigned int c = 0; c < 3; ++c)
-    for (unsigned int k = 0; k < 3; ++k)
-      {
-        axis[c] += axes_offset[k][c] * section[k];
-        axis_s[c] += axes_offset[k][c] * section_s[k];
-      }
-  Vector3 darboux; // angular velocity of the section frame per unit s'
-  for (unsigned int a = 0; a < 3; ++a) darboux += 0.5 * cross_product_3d(section[a], section_s[a]);
+  Vector3 darboux;                      // angular velocity of the section frame per unit s'
+  marker_axes(place, beyond, axis, axis_s, &darboux);
 
   // Mode fields at s: u, theta and their slopes.
   Vector3 u = Vector3(g.position) + beyond * t + 0.5 * beyond * beyond * t_s, u_s = t + beyond * t_s, theta, theta_s;
-  std::vector<double> value = place.value, slope = place.slope;
+  thread_local std::vector<double> value, slope; // copies that keep their storage between calls
+  value = place.value;
+  slope = place.slope;
   if (n > 0)
     {
       for (unsigned int i = 0; i < 6 * n; ++i) value[i] += beyond * slope[i];

@@ -48,6 +48,8 @@ public:
   unsigned int n_own_coordinates() const override { return 1; }
   void initial_own_coordinates(double *q, double *v) const override;
   void evaluate(const double *q, const double *own, MarkerKinematics &k) const override;
+  bool modal_jacobian_derivatives(const double *q, const double *own,
+                                  std::vector<ModalJacobianDerivative> &d) const override;
   double length() const { return curve->length(); }
   const geometry::Curve &track() const { return *curve; }
 
@@ -75,6 +77,13 @@ private:
     std::vector<double> value, slope; ///< 6 x n mode fields and their s-derivatives
   };
   const Place &place_at(double s_on) const;
+  /// The arc length on the track, within [0, L], and how far @p s is beyond an end (the overrun
+  /// zone); throws where @p s is off the track.
+  double clamped(double s, double &beyond) const;
+  /// The marker's axes at the place (section axes times the offset, continued to first order
+  /// beyond an end), their s-derivatives and, if asked, the section frame's Darboux vector.
+  void marker_axes(const Place &place, double beyond, std::array<Vector3, 3> &axis, std::array<Vector3, 3> &axis_s,
+                   Vector3 *darboux = nullptr) const;
   mutable Place last_place;
   Matrix3 axes_offset;
 };

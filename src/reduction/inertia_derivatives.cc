@@ -17,8 +17,8 @@ namespace flextrack::reduction
 {
 using namespace dealii;
 
-void FloatingFrameInertia::derivatives(const Tensor<2, 3> &A, const Vector<double> &eta, const Tensor<1, 3> &w,
-                                       const Vector<double> &eta_dot, const double *v_dot, Derivatives &d) const
+void FloatingFrameInertia::derivatives(const Tensor<2, 3> &A, const double *eta, const Tensor<1, 3> &w,
+                                       const double *eta_dot, const double *v_dot, Derivatives &d) const
 {
   const unsigned int size = 6 + n;
   d.d_eta.reinit(size, n);

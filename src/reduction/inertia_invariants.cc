@@ -33,13 +33,33 @@ Tensor<1, 3> InertiaInvariants::I5(const unsigned int j, const unsigned int k) c
 }
 
 FloatingFrameInertia::FloatingFrameInertia(const InertiaInvariants &invariants, const FullMatrix<double> &modal_mass)
-  : n(invariants.n_modes()), id(next_id++), inv(invariants), modal_mass(modal_mass), i5(n * n)
+  : n(invariants.n_modes()), id(next_id++), inv(invariants), modal_mass(modal_mass), i5(n * n), q_rows(9 * n * n),
+    i5_rows(3 * n * n)
 {
   for (unsigned int j = 0; j < n; ++j)
-    for (unsigned int k = 0; k < n; ++k) i5[j * n + k] = inv.I5(j, k);
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        i5[j * n + k] = inv.I5(j, k);
+        for (unsigned int a = 0; a < 3; ++a)
+          {
+            i5_rows[(3 * k + a) * n + j] = i5[j * n + k][a];
+            for (unsigned int b = 0; b < 3; ++b) q_rows[(9 * k + 3 * a + b) * n + j] = inv.Q[k * n + j][a][b];
+          }
+      }
 }
 
-const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const Vector<double> &eta) const
+namespace
+{
+/// sum_j row[j] x[j], j < n.
+double dot(const double *row, const double *x, const unsigned int n)
+{
+  double sum = 0;
+  for (unsigned int j = 0; j < n; ++j) sum += row[j] * x[j];
+  return sum;
+}
+} // namespace
+
+const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const double *eta) const
 {
   struct Entry
   {
@@ -51,13 +71,13 @@ const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const Vect
   thread_local std::array<Entry, 8> cache;
   thread_local unsigned int next = 0;
   for (Entry &e : cache)
-    if (e.owner == id && e.eta.size() == n && std::equal(e.eta.begin(), e.eta.end(), eta.begin())) return e.terms;
+    if (e.owner == id && e.eta.size() == n && std::equal(e.eta.begin(), e.eta.end(), eta)) return e.terms;
   Entry *slot = nullptr;
   for (Entry &e : cache)
     if (e.owner == id) slot = &e; // this inertia's own entry, at another eta
   if (!slot) slot = &cache[next++ % cache.size()];
   slot->owner = id;
-  slot->eta.assign(eta.begin(), eta.end());
+  slot->eta.assign(eta, eta + n);
   EtaTerms &t = slot->terms;
   t.Ph.resize(n);
   t.Mwf.resize(n);
@@ -68,13 +88,8 @@ const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const Vect
       for (unsigned int a = 0; a < 3; ++a)
         {
           t.S[a] += inv.I3(a, k) * eta[k];
-          t.Mwf[k][a] = inv.I4(a, k);
-        }
-      t.Ph[k] = inv.P[k];
-      for (unsigned int j = 0; j < n; ++j)
-        {
-          t.Ph[k] += eta[j] * inv.Q[k * n + j];
-          t.Mwf[k] += eta[j] * i5[j * n + k];
+          t.Mwf[k][a] = inv.I4(a, k) + dot(&i5_rows[(3 * k + a) * n], eta, n);
+          for (unsigned int b = 0; b < 3; ++b) t.Ph[k][a][b] = inv.P[k][a][b] + dot(&q_rows[(9 * k + 3 * a + b) * n], eta, n);
         }
       Pe += eta[k] * inv.P[k];
     }
@@ -83,7 +98,7 @@ const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const Vect
   return t;
 }
 
-void FloatingFrameInertia::mass_matrix(const Tensor<2, 3> &A, const Vector<double> &eta, FullMatrix<double> &M) const
+void FloatingFrameInertia::mass_matrix(const Tensor<2, 3> &A, const double *eta, FullMatrix<double> &M) const
 {
   M.reinit(6 + n, 6 + n);
   const EtaTerms &t = eta_terms(eta);
@@ -111,7 +126,7 @@ void FloatingFrameInertia::mass_matrix(const Tensor<2, 3> &A, const Vector<doubl
     }
 }
 
-void FloatingFrameInertia::mass_times(const Tensor<2, 3> &A, const Vector<double> &eta, const double *v_dot,
+void FloatingFrameInertia::mass_times(const Tensor<2, 3> &A, const double *eta, const double *v_dot,
                                       double *Mv) const
 {
   // The rows of mass_matrix() times (R'', omega', eta''): M_Rw omega' = -A (S x omega'),
@@ -141,8 +156,8 @@ void FloatingFrameInertia::mass_times(const Tensor<2, 3> &A, const Vector<double
     }
 }
 
-void FloatingFrameInertia::quadratic_velocity(const Tensor<2, 3> &A, const Vector<double> &eta,
-                                              const Tensor<1, 3> &w, const Vector<double> &eta_dot,
+void FloatingFrameInertia::quadratic_velocity(const Tensor<2, 3> &A, const double *eta, const Tensor<1, 3> &w,
+                                              const double *eta_dot,
                                               Vector<double> &Qv) const
 {
   Qv.reinit(6 + n);
@@ -162,7 +177,7 @@ void FloatingFrameInertia::quadratic_velocity(const Tensor<2, 3> &A, const Vecto
   for (unsigned int k = 0; k < n; ++k)
     {
       Tensor<1, 3> coriolis; // sum_j etad_j I5_jk
-      for (unsigned int j = 0; j < n; ++j) coriolis += eta_dot[j] * i5[j * n + k];
+      for (unsigned int a = 0; a < 3; ++a) coriolis[a] = dot(&i5_rows[(3 * k + a) * n], eta_dot, n);
       Qv[6 + k] = -(w * (t.Ph[k] * w) - w2 * trace(t.Ph[k]) + 2 * (w * coriolis));
     }
 }

@@ -53,15 +53,16 @@ public:
   /// @p modal_mass: Phi^T M Phi (n x n).
   FloatingFrameInertia(const InertiaInvariants &invariants, const dealii::FullMatrix<double> &modal_mass);
   unsigned int size() const { return 6 + n; }
-  /// Mass matrix (6 + n)^2 for rotation matrix @p A (body to global) and modal coordinates @p eta.
-  void mass_matrix(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta, dealii::FullMatrix<double> &M) const;
+  /// Mass matrix (6 + n)^2 for rotation matrix @p A (body to global) and modal coordinates @p eta
+  /// (n entries; here and below).
+  void mass_matrix(const dealii::Tensor<2, 3> &A, const double *eta, dealii::FullMatrix<double> &M) const;
   /// M(A, eta) @p v_dot (6 + n entries each) without forming M: what a residual needs.
-  void mass_times(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta, const double *v_dot,
+  void mass_times(const dealii::Tensor<2, 3> &A, const double *eta, const double *v_dot,
                   double *Mv) const;
   /// Quadratic-velocity vector (6 + n) at (A, eta) with angular velocity @p omega (body axes) and
   /// modal velocities @p eta_dot.
-  void quadratic_velocity(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta,
-                          const dealii::Tensor<1, 3> &omega, const dealii::Vector<double> &eta_dot,
+  void quadratic_velocity(const dealii::Tensor<2, 3> &A, const double *eta, const dealii::Tensor<1, 3> &omega,
+                          const double *eta_dot,
                           dealii::Vector<double> &Qv) const;
 
   /// Derivatives of the inertial part of a body's residual, r = M(A, eta) v_dot - Q_v, with respect
@@ -73,8 +74,8 @@ public:
     dealii::FullMatrix<double> d_eta, d_omega, d_eta_dot; ///< (6 + n) x n, (6 + n) x 3, (6 + n) x n
     dealii::Tensor<1, 3> h_R, S;
   };
-  void derivatives(const dealii::Tensor<2, 3> &A, const dealii::Vector<double> &eta, const dealii::Tensor<1, 3> &omega,
-                   const dealii::Vector<double> &eta_dot, const double *v_dot, Derivatives &d) const;
+  void derivatives(const dealii::Tensor<2, 3> &A, const double *eta, const dealii::Tensor<1, 3> &omega,
+                   const double *eta_dot, const double *v_dot, Derivatives &d) const;
 
 private:
   /// The parts of M and Q_v that depend on eta alone, each O(n^2) to form: S = s + I3 eta,
@@ -89,7 +90,7 @@ private:
   /// The terms at @p eta. A residual evaluates M and Q_v at the same eta, and the Jacobian
   /// again: each thread keeps the terms of the last eta per inertia, so that they are formed
   /// once (they were 60 % of a 32-mode body's residual).
-  const EtaTerms &eta_terms(const dealii::Vector<double> &eta) const;
+  const EtaTerms &eta_terms(const double *eta) const;
 
   unsigned int n;
   /// Tells inertias apart in the per-thread cache of eta_terms() (an address can be reused).
@@ -97,5 +98,8 @@ private:
   InertiaInvariants inv;
   dealii::FullMatrix<double> modal_mass;
   std::vector<dealii::Tensor<1, 3>> i5; // n * n
+  /// The sums over j of eta_j Q_kj and eta_j I5_jk as dot products over contiguous rows:
+  /// q_rows[(9 k + 3 a + b) n + j] = Q_kj[a][b], i5_rows[(3 k + a) n + j] = I5_jk[a].
+  std::vector<double> q_rows, i5_rows;
 };
 } // namespace flextrack::reduction

@@ -75,8 +75,11 @@ int main(int argc, char **argv)
       const Tensor<1, 3> omega({1.0, -2.0, 0.5});
       dealii::FullMatrix<double> M;
       Vector<double> Qv;
-      const double t_mass = median_us([&] { frame.mass_matrix(A, eta, M); }, n >= 200 ? 20 : 200);
-      const double t_qv = median_us([&] { frame.quadratic_velocity(A, eta, omega, eta_dot, Qv); }, n >= 200 ? 20 : 200);
+      // eta changes sign at every call: FloatingFrameInertia keeps the eta-dependent terms of the
+      // last eta, and a residual never evaluates the same state twice in a row.
+      const double t_mass = median_us([&] { eta *= -1.0; frame.mass_matrix(A, eta.begin(), M); }, n >= 200 ? 20 : 200);
+      const double t_qv =
+        median_us([&] { eta *= -1.0; frame.quadratic_velocity(A, eta.begin(), omega, eta_dot.begin(), Qv); }, n >= 200 ? 20 : 200);
 
       // Baseline: the full FE model, nodal velocity map L and velocity-dependent acceleration.
       const auto &nodes = model.full_nodes();
@@ -126,8 +129,8 @@ int main(int argc, char **argv)
       const double t_full_mass = median_us([&] { full_evaluation(true); }, 1, 3);
       const double t_full_qv = median_us([&] { full_evaluation(false); }, 1, 3);
       full_evaluation(true);
-      frame.mass_matrix(A, eta, M);
-      frame.quadratic_velocity(A, eta, omega, eta_dot, Qv);
+      frame.mass_matrix(A, eta.begin(), M);
+      frame.quadratic_velocity(A, eta.begin(), omega, eta_dot.begin(), Qv);
       double diff = 0;
       for (unsigned int i = 0; i < 6 + n; ++i)
         {
@@ -141,8 +144,8 @@ int main(int argc, char **argv)
       for (auto &x : v_dot) x = u(random);
       Vector<double> v_dot_vector(v_dot.begin(), v_dot.end());
       auto residual = [&](const Vector<double> &e, const Tensor<1, 3> &w, const Vector<double> &ed, Vector<double> &r) {
-        frame.mass_matrix(A, e, M);
-        frame.quadratic_velocity(A, e, w, ed, Qv);
+        frame.mass_matrix(A, e.begin(), M);
+        frame.quadratic_velocity(A, e.begin(), w, ed.begin(), Qv);
         M.vmult(r, v_dot_vector);
         r -= Qv;
       };
@@ -163,7 +166,7 @@ int main(int argc, char **argv)
           }
       };
       reduction::FloatingFrameInertia::Derivatives d;
-      const double t_analytic = median_us([&] { frame.derivatives(A, eta, omega, eta_dot, v_dot.data(), d); }, n >= 200 ? 20 : 200);
+      const double t_analytic = median_us([&] { frame.derivatives(A, eta.begin(), omega, eta_dot.begin(), v_dot.data(), d); }, n >= 200 ? 20 : 200);
       const double t_differences = median_us(differences, n >= 200 ? 1 : 10, n >= 200 ? 3 : 15);
       double largest = 0, worst = 0;
       for (unsigned int r = 0; r < 6 + n; ++r)

@@ -412,9 +412,9 @@ TEST(ReducedBody, floating_frame_mass_matrix_and_quadratic_velocity_equal_the_fu
   });
 
   dealii::FullMatrix<double> M;
-  frame.mass_matrix(A, eta, M);
+  frame.mass_matrix(A, eta.begin(), M);
   Vector<double> Qv;
-  frame.quadratic_velocity(A, eta, omega, eta_dot, Qv);
+  frame.quadratic_velocity(A, eta.begin(), omega, eta_dot.begin(), Qv);
   Vector<double> ML(model.n_full_dofs()), Ma(model.n_full_dofs());
   model.full_mass_vmult(Ma, a_v);
   const double scale_M = M.linfty_norm(), scale_Q = Qv.linfty_norm();
