@@ -3,6 +3,8 @@
 #include <io/output_folder.h>
 
 #include <charconv>
+#include <stdexcept>
+#include <system_error>
 
 #include <mpi.h>
 #include <sys/resource.h>
@@ -200,7 +202,8 @@ std::string csv_number(const double v)
   // is specified as that), without building a stream for every number: a run writes tens of
   // them per output row.
   char text[40];
-  const auto end = std::to_chars(text, text + sizeof(text), v, std::chars_format::general, 12).ptr;
+  const auto [end, error] = std::to_chars(text, text + sizeof(text), v, std::chars_format::general, 12);
+  if (error != std::errc()) throw std::logic_error("csv_number: no room for the text of a number");
   return std::string(text, end);
 }
 } // namespace flextrack::io

@@ -51,16 +51,7 @@ void IncrementalCsv::add_row(const std::vector<double> &values)
 {
   if (!file.is_open()) return;
   for (std::size_t i = 0; i < values.size(); ++i) file << (i ? "," : "") << csv_number(values[i]);
-  file << "\n";
-  // Readable while the run goes on, and up to the last row when it fails (the stream is flushed
-  // as the failure unwinds it); flushed at most every 0.1 s, not at every row, which cost a
-  // system call per row.
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_flush > std::chrono::milliseconds(100))
-    {
-      file.flush();
-      last_flush = now;
-    }
+  file << "\n" << std::flush; // readable up to here if the run fails or is killed later
   if (!file) throw InputError("-o / Output/Directory", "cannot write '" + name + "' (is the disk full?)");
 }
 

@@ -14,7 +14,6 @@
 
 #include <deal.II/lac/vector.h>
 
-#include <chrono>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -34,7 +33,6 @@ public:
 private:
   std::string name;
   std::ofstream file;
-  std::chrono::steady_clock::time_point last_flush;
 };
 
 class Hdf5File;

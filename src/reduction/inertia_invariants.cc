@@ -67,7 +67,18 @@ const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const doub
     std::vector<double> eta;
     EtaTerms terms;
   };
-  // A few inertias per thread (one per body that a residual visits in turn); the oldest goes.
+  // A rigid body's terms are its constants: formed in place, they take no place in the cache.
+  if (n == 0)
+    {
+      thread_local EtaTerms rigid;
+      rigid.S = inv.first_moment;
+      rigid.J = inv.inertia_origin;
+      rigid.Ph.clear();
+      rigid.Mwf.clear();
+      return rigid;
+    }
+  // A few flexible inertias per thread (one per body that a residual visits in turn); the
+  // oldest goes.
   thread_local std::array<Entry, 8> cache;
   thread_local unsigned int next = 0;
   for (Entry &e : cache)
@@ -76,7 +87,7 @@ const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const doub
   for (Entry &e : cache)
     if (e.owner == id) slot = &e; // this inertia's own entry, at another eta
   if (!slot) slot = &cache[next++ % cache.size()];
-  slot->owner = id;
+  slot->owner = 0; // the key is written last: a throw below (bad_alloc) leaves no stale entry
   slot->eta.assign(eta, eta + n);
   EtaTerms &t = slot->terms;
   t.Ph.resize(n);
@@ -95,6 +106,7 @@ const FloatingFrameInertia::EtaTerms &FloatingFrameInertia::eta_terms(const doub
     }
   for (unsigned int k = 0; k < n; ++k) Qee += eta[k] * (t.Ph[k] - inv.P[k]); // sum_jk eta_j eta_k Q_kj
   t.J = inv.inertia_origin + (2 * trace(Pe) + trace(Qee)) * unit_symmetric_tensor<3>() - Pe - transpose(Pe) - Qee;
+  slot->owner = id;
   return t;
 }
 

@@ -56,7 +56,8 @@ public:
   /// Mass matrix (6 + n)^2 for rotation matrix @p A (body to global) and modal coordinates @p eta
   /// (n entries; here and below).
   void mass_matrix(const dealii::Tensor<2, 3> &A, const double *eta, dealii::FullMatrix<double> &M) const;
-  /// M(A, eta) @p v_dot (6 + n entries each) without forming M: what a residual needs.
+  /// M(A, eta) @p v_dot (6 + n entries each) without forming M: what a residual needs. @p Mv
+  /// must not overlap @p v_dot.
   void mass_times(const dealii::Tensor<2, 3> &A, const double *eta, const double *v_dot,
                   double *Mv) const;
   /// Quadratic-velocity vector (6 + n) at (A, eta) with angular velocity @p omega (body axes) and

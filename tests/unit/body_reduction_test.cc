@@ -415,6 +415,16 @@ TEST(ReducedBody, floating_frame_mass_matrix_and_quadratic_velocity_equal_the_fu
   frame.mass_matrix(A, eta.begin(), M);
   Vector<double> Qv;
   frame.quadratic_velocity(A, eta.begin(), omega, eta_dot.begin(), Qv);
+  // mass_times (the residual's M v', without M) against the product with M: the same sums in
+  // another order, to rounding (1e-12 of |M| |v|).
+  {
+    Vector<double> v_dot(M.m()), Mv(M.m()), Mv_direct(M.m());
+    for (unsigned int i = 0; i < v_dot.size(); ++i) v_dot[i] = std::sin(1.0 + 0.7 * i);
+    M.vmult(Mv, v_dot);
+    frame.mass_times(A, eta.begin(), v_dot.begin(), Mv_direct.begin());
+    for (unsigned int i = 0; i < Mv.size(); ++i)
+      EXPECT_NEAR(Mv_direct[i], Mv[i], 1e-12 * M.linfty_norm() * v_dot.linfty_norm()) << i;
+  }
   Vector<double> ML(model.n_full_dofs()), Ma(model.n_full_dofs());
   model.full_mass_vmult(Ma, a_v);
   const double scale_M = M.linfty_norm(), scale_Q = Qv.linfty_norm();
