@@ -55,13 +55,6 @@ void IncrementalCsv::add_row(const std::vector<double> &values)
   if (!file) throw InputError("-o / Output/Directory", "cannot write '" + name + "' (is the disk full?)");
 }
 
-void IncrementalCsv::flush()
-{
-  if (!file.is_open()) return;
-  file.flush();
-  if (!file) throw InputError("-o / Output/Directory", "cannot write '" + name + "' (is the disk full?)");
-}
-
 RunRecorder::RunRecorder(const multibody::System &s, const std::vector<std::unique_ptr<multibody::Probe>> &p,
                          OutputFolder &folder, const double expected_rows)
   : system(s), probes(p), track_joints(track_joint_indices(s)), monitor_columns(monitor_names.size())
@@ -279,8 +272,6 @@ void RunRecorder::write_block()
 
 void RunRecorder::finish()
 {
-  if (probe_csv) probe_csv->flush();
-  monitor_csv->flush();
   write_block();
   if (!hdf5) return;
   try

@@ -27,8 +27,6 @@ class IncrementalCsv
 public:
   IncrementalCsv(OutputFolder &folder, const std::string &name, const std::vector<std::string> &columns);
   void add_row(const std::vector<double> &values);
-  /// Writes out the rows still buffered (before anything reads the file).
-  void flush();
 
 private:
   std::string name;
