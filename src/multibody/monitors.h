@@ -8,11 +8,13 @@
 // every internal IDA step: Simpson's rule on IDA's interpolating polynomial (step start, middle,
 // end), so the quadrature error is O(h^5) per step, below the integrator's own error. An output
 // row inside a step (IDA steps past it and interpolates back) gets the works up to its own time:
-// the sum over the finished steps minus the part of the last step after the row.
+// the sum over the finished steps minus the part of the last step after the row, that part from
+// the quadratic through the step's three powers (no new evaluation; O(h^4) per row, not summed).
 // Geometric stiffening is a linearised, non-conservative force (no potential is kept for it):
 // the balance closes exactly only without it.
 #pragma once
 
+#include <array>
 #include <limits>
 
 #include <multibody/time_integrator.h>
@@ -53,9 +55,12 @@ public:
   MonitorValues evaluate(double t, const dealii::Vector<double> &y) const;
 
 private:
-  /// Works [J] over [t0, t1] inside IDA's last step (Simpson on its interpolating polynomial).
-  /// @p whole_step: [t0, t1] is the integrator's last step (its end is remembered for the next).
-  Powers step_work(double t0, double t1, bool whole_step) const;
+  /// Works [J] over the integrator's last step [t0, t1] (Simpson on its interpolating
+  /// polynomial); keeps the three powers for partial_step_work().
+  Powers step_work(double t0, double t1) const;
+  /// Works [J] from the start of the last step to t inside it, from the powers step_work() kept.
+  Powers partial_step_work(double t) const;
+  static bool same_state(const dealii::Vector<double> &a, const dealii::Vector<double> &b);
 
   const System &system;
   const TimeIntegrator *ida = nullptr;
@@ -67,6 +72,7 @@ private:
   mutable double last_time = std::numeric_limits<double>::quiet_NaN();
   mutable dealii::Vector<double> last_state;
   mutable Powers last_powers;
+  mutable std::array<Powers, 3> step_powers; ///< at the last step's start, middle and end [W]
 };
 
 /// The energy balance error of a run, E(t) - E(0) - (W_applied + W_drivers - D), relative to the
