@@ -1,6 +1,7 @@
 #include <fem/arm.h>
 #include <base/text.h>
 #include <base/input_error.h>
+#include <geometry/built_geometry.h>
 #include <geometry/spline.h>
 
 #include <algorithm>
@@ -187,16 +188,29 @@ Arm Arm::parse_parameters(ParameterHandler &prm, const std::string &directory, c
   // An InputError ends the run, so subsections need not be left on the way out.
   prm.enter_subsection(section);
   {
+      // The text first: a curve and frame built before from the same text (the same arm in an
+      // earlier case, the rigid reference run) are taken as they are. They were checked then.
       prm.enter_subsection("Curve");
-      arm.curve = geometry::parse_curve(prm, {section + "/Curve", directory});
       arm.geometry_parameters = curve_text(prm, {section + "/Curve", directory});
       prm.leave_subsection();
-      arm.frame = std::make_shared<geometry::SectionFrame>(
-        geometry::SectionFrame::parse_parameters(prm, arm.curve, {section, directory}));
       std::ostringstream frame_text;
       print_entries(prm, geometry::SectionFrame::declare_parameters, [](const std::string &) { return true; }, {},
                     frame_text, "");
       arm.geometry_parameters += frame_text.str();
+      if (const auto built = geometry::built_geometry(arm.geometry_parameters))
+        {
+          arm.curve = built->curve;
+          arm.frame = built->frame;
+        }
+      else
+        {
+          prm.enter_subsection("Curve");
+          arm.curve = geometry::parse_curve(prm, {section + "/Curve", directory});
+          prm.leave_subsection();
+          arm.frame = std::make_shared<geometry::SectionFrame>(
+            geometry::SectionFrame::parse_parameters(prm, arm.curve, {section, directory}));
+          geometry::remember_built_geometry(arm.geometry_parameters, {arm.curve, arm.frame});
+        }
       arm.material = Material::parse_parameters(prm, section);
       arm.section = CrossSection::parse_parameters(prm, section, arm.material.poisson_ratio);
 

@@ -1,5 +1,6 @@
 #include <base/parse_error.h>
 #include <base/text.h>
+#include <geometry/built_geometry.h>
 #include <geometry/curve_library.h>
 #include <geometry/section_frame.h>
 #include <reduction/arm_geometry.h>
@@ -8,8 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <mutex>
 #include <sstream>
 
 namespace flextrack::reduction
@@ -130,22 +129,13 @@ void check_arm_geometry(const geometry::Curve &curve, const ArmModeData &arm)
 
 namespace
 {
-/// The arm geometries this process has rebuilt, by their text. A curve and its frame take tens
-/// of milliseconds to build (arc length, the checks of geometry::parse_curve, the frame's
-/// transport) and are immutable: a run reads each reduced body twice (its own run and the rigid
-/// reference run), and a worker of `flextrack sweep` the same bodies in every case.
+/// The curve and frame of @p text, built once per process (geometry/built_geometry.h): the body
+/// scene's arms, built just before, usually have the same text.
 ArmGeometry parsed_once(const std::string &text)
 {
-  static std::mutex mutex;
-  static std::map<std::string, ArmGeometry> known;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (const auto found = known.find(text); found != known.end()) return found->second;
-  }
+  if (const auto known = geometry::built_geometry(text)) return {known->curve, known->frame};
   ArmGeometry g = parse_arm_geometry(text); // throws for a text that does not rebuild: nothing kept
-  std::lock_guard<std::mutex> lock(mutex);
-  if (known.size() >= 64) known.clear(); // a bound, for a long study of many geometries
-  known.emplace(text, g);
+  geometry::remember_built_geometry(text, {g.curve, g.frame});
   return g;
 }
 } // namespace
