@@ -92,6 +92,11 @@ private:
   double gauss_integral(double a, double b) const; // int_a^b |y'(p)| dp, 10-point Gauss
   void tabulate_arc_length(const std::vector<double> &breakpoints);
   void add_panel(double a, double b, double integral, int depth);
+  /// Chebyshev series of each panel's speed and arc length (see tabulate_series).
+  void tabulate_series();
+  /// int_{p_i}^p |y'| and |y'(p)| on panel i: from its series where it has one, else by Gauss.
+  double panel_arc_length(std::size_t i, double p) const;
+  double panel_speed(std::size_t i, double p) const;
 
   std::string name;
   CurveFunction function;
@@ -100,6 +105,12 @@ private:
   bool arc_length_parameter;
   // Type I table: panel ends p_table[i] with arc lengths s_table[i].
   std::vector<double> p_table, s_table;
+  // Per panel i: the speed's Chebyshev coefficients (series_points of them) and the arc length's
+  // from p_table[i] (one more), at series_stride * i; has_series[i] is false where the series did
+  // not reproduce the panel (then Gauss is used there).
+  static constexpr unsigned int series_points = 16, series_stride = 2 * series_points + 1;
+  std::vector<double> series;
+  std::vector<char> has_series;
   double total_length = 0;
   bool closed = false;
 };
