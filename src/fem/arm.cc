@@ -126,8 +126,11 @@ std::string curve_text(ParameterHandler &prm, const geometry::ParseContext &wher
   std::map<std::string, std::string> replace;
   prm.enter_subsection("Spline");
   std::string file = base::trim(prm.get("Points file"));
+  const bool inline_given = !base::trim(prm.get("Inline points")).empty();
   prm.leave_subsection();
-  if (kind == "spline" && !file.empty())
+  // Both given: left as it is, so that the text matches no built geometry and parse_curve
+  // refuses the pair (it would otherwise equal the text of the file alone).
+  if (kind == "spline" && !file.empty() && !inline_given)
     {
       if (file[0] != '/' && !where.directory.empty()) file = where.directory + "/" + file;
       std::ostringstream points;

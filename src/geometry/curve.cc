@@ -107,19 +107,22 @@ void Curve::tabulate_series()
   // floor of add_panel): elsewhere Gauss is used as before.
   constexpr unsigned int n = series_points;
   const std::size_t panels = p_table.size() - 1;
-  series.assign(series_stride * panels, 0.0);
   has_series.assign(panels, 0);
-  double f[n];
+  if (panels > max_series_panels) return;
+  series.assign(series_stride * panels, 0.0);
+  double f[n], cosines[n][n]; // cosines[j][k] = cos(pi j (k + 1/2) / n) = T_j at node k
+  for (unsigned int j = 0; j < n; ++j)
+    for (unsigned int k = 0; k < n; ++k) cosines[j][k] = std::cos(M_PI * j * (k + 0.5) / n);
   for (std::size_t i = 0; i < panels; ++i)
     {
       const double a = p_table[i], b = p_table[i + 1], half = 0.5 * (b - a), mid = 0.5 * (a + b);
       for (unsigned int k = 0; k < n; ++k)
-        f[k] = speed(mid + half * std::cos(M_PI * (k + 0.5) / n));
+        f[k] = speed(mid + half * cosines[1][k]);
       double *c = &series[series_stride * i], *C = c + n, largest = 0;
       for (unsigned int j = 0; j < n; ++j)
         {
           double sum = 0;
-          for (unsigned int k = 0; k < n; ++k) sum += f[k] * std::cos(M_PI * j * (k + 0.5) / n);
+          for (unsigned int k = 0; k < n; ++k) sum += f[k] * cosines[j][k];
           c[j] = 2.0 / n * sum;
           largest = std::max(largest, std::abs(c[j]));
         }
@@ -133,7 +136,9 @@ void Curve::tabulate_series()
           at_start += (j % 2 ? -1 : 1) * C[j];
         }
       C[0] = -2 * at_start;
-      const double length = s_table[i + 1] - s_table[i];
+      // The panel's own Gauss length: s_table's differences carry the running sum's rounding
+      // (1e-16 of s), more than 1e-14 of a panel once there are a few hundred of them.
+      const double length = gauss_integral(a, b);
       const double rounding_floor = 16 * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b)) *
                                     std::abs(length) / (b - a);
       const bool converged = std::abs(c[n - 1]) <= 1e-14 * largest && std::abs(c[n - 2]) <= 1e-14 * largest;

@@ -109,6 +109,9 @@ private:
   // from p_table[i] (one more), at series_stride * i; has_series[i] is false where the series did
   // not reproduce the panel (then Gauss is used there).
   static constexpr unsigned int series_points = 16, series_stride = 2 * series_points + 1;
+  /// Series for at most this many panels (33 doubles each: 17 MiB); a table beyond it (a curve
+  /// that is hardly smooth) uses Gauss throughout.
+  static constexpr std::size_t max_series_panels = std::size_t(1) << 16;
   std::vector<double> series;
   std::vector<char> has_series;
   double total_length = 0;

@@ -296,6 +296,37 @@ TEST(ArmGeometry, spline_points_inline_equal_the_points_file_and_are_range_check
       }
 }
 
+TEST(ArmGeometry, an_arm_built_before_from_the_same_text_does_not_let_a_bad_spline_through)
+{
+  // fem::Arm takes a curve built earlier in the process from the same geometry text
+  // (geometry/built_geometry.h). A spline with both a points file and inline points must still be
+  // refused although, with the file's points inlined, its text would equal that of the file alone,
+  // which was just built.
+  const TemporaryFolder dir;
+  std::ofstream(dir / "points.txt") << spline_points;
+  const auto arm = [&](const std::string &points) {
+    dealii::ParameterHandler prm;
+    fem::Arm::declare_parameters(prm);
+    prm.parse_input_from_string("subsection Arm\n subsection Curve\n  set Kind = spline\n  subsection Spline\n"
+                                "   set Points file = points.txt\n   set Inline points = " + points +
+                                "\n  end\n end\nend\n");
+    return fem::Arm::parse_parameters(prm, dir.path.string());
+  };
+  const fem::Arm from_file = arm("");
+  EXPECT_GT(from_file.curve->length(), 0);
+  EXPECT_EQ(arm("").curve, from_file.curve); // the same text: the same curve object
+  try
+    {
+      arm("0 0 0; 1 0 0");
+      ADD_FAILURE() << "a points file and inline points were accepted together";
+    }
+  catch (const InputError &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("give either 'Points file' or 'Inline points', not both"), std::string::npos)
+        << e.what();
+    }
+}
+
 TEST(ArmGeometry, text_of_expression_curves_with_constants_rebuilds_the_same_curve)
 {
   // The text is written by walking the declared entries (fem::Arm::parse_parameters): a kind

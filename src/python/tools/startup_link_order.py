@@ -85,19 +85,24 @@ def natural_order(direct, order):
 
 
 def strong_definitions(order):
-    """symbol -> sonames defining it as a strong dynamic symbol, for symbols defined more than once."""
-    defs = collections.defaultdict(list)
+    """symbol -> sonames defining it, for symbols defined by more than one library and as a strong
+    symbol by at least one (the dynamic linker takes the first definition in load order, weak or
+    strong, so a weak one moved ahead of a strong one would change the binding too)."""
+    defs, strong = collections.defaultdict(set), set()
     for path in order[1:]:
         out = subprocess.run(["nm", "-D", "--defined-only", path], capture_output=True, text=True).stdout
         for line in out.splitlines():
             fields = line.split()
-            # V, W: weak; u: unique (one copy by the ODR); A: version names (GLIBC_2.2.5).
-            if len(fields) < 3 or fields[1] in "VvWwuA":
+            # u: unique (one copy per process whatever the order); A: version names (GLIBC_2.2.5).
+            if len(fields) < 3 or fields[1] in "uA":
                 continue
             symbol = fields[2].split("@")[0]
-            if symbol not in LINKER_SYMBOLS:
-                defs[symbol].append(os.path.basename(path))
-    return {s: sorted(set(libs)) for s, libs in defs.items() if len(set(libs)) > 1}
+            if symbol in LINKER_SYMBOLS:
+                continue
+            defs[symbol].add(os.path.basename(path))
+            if fields[1] not in "VvWw":  # V, W: weak (templates, inline functions: one by the ODR)
+                strong.add(symbol)
+    return {s: sorted(libs) for s, libs in defs.items() if len(libs) > 1 and s in strong}
 
 
 def winners(libraries, rank):
