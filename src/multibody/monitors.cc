@@ -8,6 +8,19 @@ namespace flextrack::multibody
 {
 using namespace dealii;
 
+namespace
+{
+bool same_state(const Vector<double> &a, const Vector<double> &b)
+{
+  // The step's polynomial passes through the last step's end: equal up to rounding there. A
+  // restart (an impact at an end stop) changes the velocities by far more.
+  if (a.size() != b.size()) return false;
+  for (unsigned int i = 0; i < a.size(); ++i)
+    if (!(std::abs(a[i] - b[i]) <= 1e-12 * (1 + std::abs(b[i])))) return false;
+  return true;
+}
+} // namespace
+
 Powers Monitors::powers(const double t, const Vector<double> &y) const
 {
   Powers p;
@@ -64,16 +77,6 @@ Powers Monitors::step_work(const double t0, const double t1) const
   w.drivers = h * (p[0].drivers + 4 * p[1].drivers + p[2].drivers);
   w.dissipation = h * (p[0].dissipation + 4 * p[1].dissipation + p[2].dissipation);
   return w;
-}
-
-bool Monitors::same_state(const Vector<double> &a, const Vector<double> &b)
-{
-  // The step's polynomial passes through the last step's end: equal up to rounding there. A
-  // restart (an impact at an end stop) changes the velocities by far more.
-  if (a.size() != b.size()) return false;
-  for (unsigned int i = 0; i < a.size(); ++i)
-    if (!(std::abs(a[i] - b[i]) <= 1e-12 * (1 + std::abs(b[i])))) return false;
-  return true;
 }
 
 Powers Monitors::partial_step_work(const double t) const

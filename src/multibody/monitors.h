@@ -60,7 +60,6 @@ private:
   Powers step_work(double t0, double t1) const;
   /// Works [J] from the start of the last step to t inside it, from the powers step_work() kept.
   Powers partial_step_work(double t) const;
-  static bool same_state(const dealii::Vector<double> &a, const dealii::Vector<double> &b);
 
   const System &system;
   const TimeIntegrator *ida = nullptr;

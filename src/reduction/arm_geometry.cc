@@ -1,6 +1,5 @@
 #include <base/parse_error.h>
 #include <base/text.h>
-#include <geometry/built_geometry.h>
 #include <geometry/curve_library.h>
 #include <geometry/section_frame.h>
 #include <reduction/arm_geometry.h>
@@ -133,9 +132,9 @@ namespace
 /// scene's arms, built just before, usually have the same text.
 ArmGeometry parsed_once(const std::string &text)
 {
-  if (const auto known = geometry::built_geometry(text)) return {known->curve, known->frame};
+  if (const auto known = geometry::built_geometry(text)) return *known;
   ArmGeometry g = parse_arm_geometry(text); // throws for a text that does not rebuild: nothing kept
-  geometry::remember_built_geometry(text, {g.curve, g.frame});
+  geometry::remember_built_geometry(text, g);
   return g;
 }
 } // namespace

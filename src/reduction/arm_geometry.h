@@ -6,6 +6,7 @@
 // before anyone slides on it. The text comes from a file and is treated as untrusted.
 #pragma once
 
+#include <geometry/built_geometry.h>
 #include <reduction/mode_field.h>
 
 #include <cstddef>
@@ -18,11 +19,8 @@ namespace flextrack::reduction
 /// digits is at most 7.3 MB; expressions are at most 10000 characters each.
 constexpr std::size_t max_geometry_parameters_bytes = std::size_t(8) << 20;
 
-struct ArmGeometry
-{
-  std::shared_ptr<const geometry::Curve> curve;
-  std::shared_ptr<const geometry::SectionFrame> frame;
-};
+/// A rebuilt arm's curve and section frame.
+using ArmGeometry = geometry::CurveAndFrame;
 
 /// The curve and section frame that @p text describes. Accepts only the curve and frame entries
 /// (nothing else is declared), at most max_geometry_parameters_bytes, no "include", no line

@@ -122,9 +122,8 @@ def command_order(exe, out_path):
     # Precedence: each symbol's natural winner stays ahead of the other libraries defining it.
     conflicts = strong_definitions(order)
     before = collections.defaultdict(set)  # library -> libraries that must come before it
-    for symbol, libs in conflicts.items():
-        winner = min(libs, key=lambda lib: rank.get(lib, len(rank)))
-        for lib in libs:
+    for symbol, winner in winners(conflicts, rank).items():
+        for lib in conflicts[symbol]:
             if lib != winner:
                 before[lib].add(winner)
     # Greedy topological order: of the libraries whose predecessors are placed, the one with the
