@@ -63,6 +63,14 @@ fs::path data_folder(const std::string &name)
   return folder;
 }
 
+/// Removes a folder from data_folder() and, once it is empty, the per-process parent holding it.
+void remove_data_folder(const fs::path &folder)
+{
+  fs::remove_all(folder);
+  std::error_code not_empty_yet;
+  fs::remove(folder.parent_path(), not_empty_yet);
+}
+
 bool have_gnuplot()
 {
   return std::system("gnuplot --version >/dev/null 2>&1") == 0;
@@ -81,7 +89,7 @@ void expect_harmless(const std::string &case_name, const std::string &script_nam
   for (const auto &entry : fs::directory_iterator(folder))
     EXPECT_EQ(entry.path().filename().string().find(".writing-"), std::string::npos)
       << case_name << ": temporary left: " << entry.path();
-  fs::remove_all(folder);
+  remove_data_folder(folder);
 }
 } // namespace
 
@@ -152,7 +160,7 @@ TEST(Gnuplot, HostileTitleReadsBackAsText)
       EXPECT_EQ(line, text);
       EXPECT_FALSE(fs::exists(folder / "PWNED"));
     }
-  fs::remove_all(folder);
+  remove_data_folder(folder);
 }
 
 // A script that fails leaves no PNG and no temporary, and says so.
@@ -169,7 +177,7 @@ TEST(Gnuplot, FailedScriptLeavesNoPng)
   unsigned int files = 0;
   for ([[maybe_unused]] const auto &entry : fs::directory_iterator(folder)) ++files;
   EXPECT_EQ(files, 6u); // the five data files and bad.gp
-  fs::remove_all(folder);
+  remove_data_folder(folder);
 }
 
 // A PNG cut short (a full disk: gnuplot still exits 0, bench.png was 4096 bytes) or not a PNG at
@@ -192,5 +200,5 @@ TEST(Gnuplot, IncompletePngIsRefused)
   // The same script without the cut draws a whole PNG: the check is not what fails above.
   std::ofstream(folder / "whole.gp") << "set terminal pngcairo size 900,620\nset output png_file\nplot sin(x)\n";
   EXPECT_TRUE(flextrack::io::draw_png(folder.string(), "whole.gp", "whole.png").drawn);
-  fs::remove_all(folder);
+  remove_data_folder(folder);
 }
