@@ -46,6 +46,7 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(System &s, const Integrat
 
 void GeneralizedAlphaIntegrator::initialize(const double t0, const State &y0, const State &yp0)
 {
+  system.use_newton_matrix(true); // Newton without d(Phi_q^T mu)/dq (System)
   system.differential_components(differential);
   absolute.reinit(system.size());
   for (unsigned int i = 0; i < system.size(); ++i)

@@ -196,6 +196,7 @@ IdaIntegrator::~IdaIntegrator() = default;
 void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
 {
   sun = std::make_unique<Sundials>();
+  system.use_newton_matrix(true); // modified Newton: G without d(Phi_q^T mu)/dq (System)
   const sunindextype n = system.size();
   if (SUNContext_Create(nullptr, &sun->context) != 0) throw SolverError("SUNDIALS: cannot create a context");
   sun->y = N_VNew_Serial(n, sun->context);

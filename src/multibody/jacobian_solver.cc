@@ -52,7 +52,8 @@ bool dense_factorisation_is_faster(const System &system, const std::vector<std::
   return n >= 1000 && 20 * blocks > std::pow(double(n), 3);
 }
 
-JacobianSolver::JacobianSolver(const std::vector<std::vector<int>> &pattern, const bool dense)
+JacobianSolver::JacobianSolver(const std::vector<std::vector<int>> &pattern, const bool dense, const unsigned int n_condensed_)
+  : n_condensed(dense ? n_condensed_ : 0)
 {
   const int n = pattern.size();
   comm = std::make_unique<Epetra_SerialComm>();
@@ -214,7 +215,19 @@ void copy_to_dense(const Epetra_CrsMatrix &A, std::vector<double> &column_major)
 bool JacobianSolver::factorize_dense()
 {
   const int n = map->NumMyElements();
+  used_condensed = false;
   copy_to_dense(*A, dense_factors);
+  if (n_condensed > 0)
+    switch (condensed.factorize(dense_factors.data(), n, n_condensed))
+      {
+        case CondensedLU::Result::factored:
+          ++condensed_count;
+          return dense_factored = used_condensed = true;
+        case CondensedLU::Result::singular:
+          return dense_factored = false;
+        case CondensedLU::Result::not_applicable:
+          break; // the whole matrix, unchanged, below
+      }
   int info = 0;
   dgetrf_(&n, &n, dense_factors.data(), &n, dense_pivots.data(), &info);
   if (info < 0) throw std::logic_error("LAPACK dgetrf: argument " + std::to_string(-info) + " is invalid");
@@ -242,6 +255,11 @@ void JacobianSolver::solve(const double *b, double *x)
     }
   if (!dense_factored) throw std::runtime_error("the Jacobian was not factorised (singular) before a solve");
   if (x != b) std::memcpy(x, b, n * sizeof(double));
+  if (used_condensed)
+    {
+      condensed.solve(dense_factors.data(), x);
+      return;
+    }
   const int one = 1;
   int info = 0;
   dgetrs_("N", &n, &one, dense_factors.data(), &n, dense_pivots.data(), x, &n, &info);

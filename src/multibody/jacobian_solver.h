@@ -13,6 +13,8 @@
 // read the clock twice for Amesos' timers: 7 % of a tight-tolerance laser robot run.
 #pragma once
 
+#include <multibody/condensed_lu.h>
+
 #include <memory>
 #include <vector>
 
@@ -48,8 +50,10 @@ class JacobianSolver
 {
 public:
   /// @p pattern[row]: the columns of row (sorted, no repeats); @p dense: factorise by LAPACK's
-  /// dense LU, not KLU (the sparse path is the one with KLU's state).
-  explicit JacobianSolver(const std::vector<std::vector<int>> &pattern, bool dense = false);
+  /// dense LU, not KLU (the sparse path is the one with KLU's state). @p n_condensed: the dense
+  /// path eliminates the first n_condensed unknowns (the positions) through their small diagonal
+  /// blocks before the LU, where those blocks are uncoupled (condensed_lu.h); 0: never.
+  explicit JacobianSolver(const std::vector<std::vector<int>> &pattern, bool dense = false, unsigned int n_condensed = 0);
   ~JacobianSolver();
   void zero();
   /// A(rows[i], cols[k]) += block[i * cols.size() + k].
@@ -62,15 +66,21 @@ public:
   bool factorize(bool fresh_pivots = false);
   void solve(const double *b, double *x);
   unsigned long n_factorizations() const { return count; }
+  /// How many of them condensed the positions out (CondensedLU), and its complement's size.
+  unsigned long n_condensed_factorizations() const { return condensed_count; }
+  unsigned int condensed_size() const { return condensed.complement_size(); }
 
 private:
   std::unique_ptr<Epetra_SerialComm> comm;
   std::unique_ptr<Epetra_Map> map;
   std::unique_ptr<Epetra_CrsGraph> graph;
   std::unique_ptr<Epetra_CrsMatrix> A;
-  unsigned long count = 0;
-  // The dense path only: LAPACK's LU factors of A (column major, n x n) and its row swaps.
-  bool dense_factored = false;
+  unsigned long count = 0, condensed_count = 0;
+  // The dense path only: LAPACK's LU factors of A (column major, n x n) and its row swaps, or
+  // the factors with the first n_condensed unknowns condensed out (used_condensed).
+  bool dense_factored = false, used_condensed = false;
+  unsigned int n_condensed = 0;
+  CondensedLU condensed;
   std::vector<double> dense_factors;
   std::vector<int> dense_pivots;
   bool factorize_dense();

@@ -123,6 +123,7 @@ RadauIntegrator::RadauIntegrator(System &s, const IntegratorSettings &settings_)
 void RadauIntegrator::initialize(const double t0, const State &y0, const State &yp0)
 {
   n = system.size();
+  system.use_newton_matrix(true); // simplified Newton: J without d(Phi_q^T mu)/dq (System)
   system.differential_components(differential);
   // The local error estimate is tested against the tolerances as given, as IDA's is. (RADAU5
   // loosens them to 0.1 rtol^(2/3): at rtol 1e-6 that is 1e-5, and the paths of the scenes of

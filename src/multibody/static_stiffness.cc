@@ -28,6 +28,7 @@ void velocity_row_tangents(System &system, const double t, const Vector<double> 
                            FullMatrix<double> &K, FullMatrix<double> *C)
 {
   const unsigned int nq = system.n_q(), nv = system.n_v();
+  system.use_newton_matrix(false); // the exact tangent
   system.assemble_jacobian(t, 0.0, y, yp);
   const Epetra_CrsMatrix &J = system.jacobian();
   // dF_v / dq and dF_v / dv, dense: a body's rows are dense in its own columns anyway.

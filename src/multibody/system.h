@@ -134,9 +134,21 @@ public:
   /// x = J^{-1} b (after factorize()); x and b may alias.
   void solve(const double *b, double *x);
   unsigned long n_jacobian_evaluations() const { return jacobian_count; }
+  /// Factorisations that condensed the positions out (condensed_lu.h), and the unknowns left in
+  /// their LU; 0 before the first factorisation or on KLU.
+  unsigned long n_condensed_factorizations() const;
+  unsigned int condensed_size() const;
   /// Take every joint's and force's derivatives by central differences of its residual, also
   /// where it has analytic ones (Joint::derivatives, Force::derivatives): the test oracle.
   void use_element_differences(bool differences) { element_differences_only = differences; }
+  /// Assemble the Newton matrix of a time step, not the exact Jacobian: without the joints'
+  /// d(Phi_q^T mu)/dq. The stabilisation multipliers mu vanish on the exact solution and stay of
+  /// the order of the local error / h in a step, so the term is negligible beside cj I in the same
+  /// rows; without it the position rows' block cj I - d(T v)/dq splits by body frame and
+  /// coordinate, and the dense LU condenses the positions out (condensed_lu.h: the laser robot's
+  /// LU of 170 unknowns becomes one of 102). Set by the time integrators; the exact Jacobian
+  /// (default) is for linearisation, static stiffness and the tests.
+  void use_newton_matrix(bool newton) { newton_matrix = newton; }
 
   // Pieces for initial conditions, monitors, linearisation (all in v-coordinates, dense)
   void mass_matrix(const dealii::Vector<double> &y, dealii::FullMatrix<double> &M) const;
@@ -268,6 +280,6 @@ private:
   /// along it, what the free force balance leaves [N].
   double stop_force(unsigned int j, unsigned int coordinate, double t, const dealii::Vector<double> &y) const;
   unsigned long jacobian_count = 0;
-  bool element_differences_only = false;
+  bool element_differences_only = false, newton_matrix = false;
 };
 } // namespace flextrack::multibody

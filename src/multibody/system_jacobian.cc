@@ -112,8 +112,8 @@ bool System::analytic_joint_block(const unsigned int j, const double t, const Ve
   thread_local std::vector<double> lambda, mu;
   lambda.assign(s.joint->n_equations(), 0.0);
   mu.assign(s.joint->n_equations(), 0.0);
-  for (unsigned int r = 0; r < m; ++r)
-    lambda[s.active[r]] = y[l0 + s.multiplier + r], mu[s.active[r]] = y[m0 + s.multiplier + r];
+  for (unsigned int r = 0; r < m; ++r) // mu = 0 in the Newton matrix (use_newton_matrix)
+    lambda[s.active[r]] = y[l0 + s.multiplier + r], mu[s.active[r]] = newton_matrix ? 0.0 : y[m0 + s.multiplier + r];
   std::vector<const double *> v;
   for (const unsigned int b : s.body_index) v.push_back(v_of(b, y));
   const std::vector<const double *> q = joint_q(j, y);
@@ -311,7 +311,7 @@ void System::assemble_jacobian(const double t, const double alpha, const Vector<
   if (!solver)
     {
       const auto pattern = jacobian_pattern();
-      solver = std::make_unique<JacobianSolver>(pattern, dense_factorisation_is_faster(*this, pattern));
+      solver = std::make_unique<JacobianSolver>(pattern, dense_factorisation_is_faster(*this, pattern), nq);
     }
   ++jacobian_count;
   solver->zero();
@@ -377,6 +377,10 @@ bool System::factorize(const bool fresh_pivots)
   Assert(solver, ExcMessage("assemble_jacobian() first"));
   return solver->factorize(fresh_pivots);
 }
+
+unsigned long System::n_condensed_factorizations() const { return solver ? solver->n_condensed_factorizations() : 0; }
+
+unsigned int System::condensed_size() const { return solver ? solver->condensed_size() : 0; }
 
 void System::solve(const double *b, double *x)
 {

@@ -199,7 +199,8 @@ std::string choose_automatic_settings(const System &system, IntegratorSettings &
       for (unsigned int b = 0; b < system.n_bodies(); ++b) largest = std::max(largest, system.body(b).n_v());
       note << (note.tellp() > 0 ? "; " : "") << "the Jacobian (" << system.size() << " unknowns, "
            << std::lround(100 * pattern_fill(pattern)) << " % of its entries in the pattern, the largest dense block "
-           << largest << ") factorised by LAPACK's dense LU, not the sparse KLU (faster when the factors are nearly full)";
+           << largest << ") factorised by LAPACK's dense LU, not the sparse KLU (faster when the factors are nearly full), "
+              "with the positions condensed out first where their Newton blocks are uncoupled";
     }
   return note.str();
 }

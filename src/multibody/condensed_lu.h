@@ -1,0 +1,53 @@
+// Dense LU of the DAE's Newton matrix with its leading unknowns (the positions q) condensed out
+// first, where their diagonal block splits into small independent blocks.
+//
+// Why: in the Newton matrix G = dF/dy + cj dF/dy' of a time step, the kinematic rows
+// q' - T(q) v + Phi_q^T mu + 2 p mu_p = 0 give the q-q block cj I - d(T v)/dq + 2 mu_p I, which
+// is block diagonal - a body's frame (R, p), each modal or track coordinate alone - once the
+// Newton matrix leaves out d(Phi_q^T mu)/dq (System::use_newton_matrix). With Q the leading
+// unknowns and R the rest (velocities, multipliers):
+//   C = G_QQ^{-1} G_QR (block by block),  S = G_RR - G_RQ C (one dgemm),  LU of S,
+// and a solve is y_Q = G_QQ^{-1} b_Q, x_R = S^{-1} (b_R - G_RQ y_Q), x_Q = y_Q - C x_R. The LU
+// then works on the velocities and multipliers only: the laser robot's 170 unknowns become 104.
+//
+// Where the block does not split so (a joint whose markers sit on one body, derivatives taken by
+// differences; a static solve with cj = 0, whose q-q block is singular), or a block's pivot is
+// poor, factorize() says so, leaves the matrix as it was, and the caller factorises it whole.
+#pragma once
+
+#include <vector>
+
+namespace flextrack::multibody
+{
+class CondensedLU
+{
+public:
+  enum class Result
+  {
+    factored,
+    singular,      ///< the complement has an exactly zero pivot: the matrix is singular
+    not_applicable ///< the leading block does not split into small, well-pivoted blocks
+  };
+  /// The largest block of leading unknowns eliminated as one (a body's R and p are 7).
+  static constexpr unsigned int max_block = 8;
+
+  /// Factorises the dense column-major n x n matrix @p a in place (C over G_QR, S's LU factors over
+  /// G_RR), eliminating its first @p n_leading unknowns. Unchanged unless the result is factored.
+  Result factorize(double *a, unsigned int n, unsigned int n_leading);
+  /// x = A^{-1} x with the factors in @p a, after factorize() returned factored.
+  void solve(const double *a, double *x) const;
+  /// The unknowns left in the dense complement (after factorize()).
+  unsigned int complement_size() const { return n - n_lead; }
+
+private:
+  unsigned int n = 0, n_lead = 0;
+  /// The leading blocks: their unknowns, and their LU factors (row major, k x k) with row swaps.
+  std::vector<unsigned int> block_start, block_members, block_factor_start;
+  std::vector<double> block_factors;
+  std::vector<int> block_pivots;
+  std::vector<int> complement_pivots; ///< S's row swaps (LAPACK)
+
+  /// x_Q = G_QQ^{-1} x_Q, the leading entries of each column of the n x @p columns array @p x.
+  void solve_blocks(double *x, unsigned int columns, unsigned int ld) const;
+};
+} // namespace flextrack::multibody

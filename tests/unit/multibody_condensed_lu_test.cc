@@ -1,0 +1,121 @@
+// CondensedLU (multibody/condensed_lu.h): the dense LU with the leading unknowns condensed out
+// through their small diagonal blocks. Reference: a manufactured solution x (b = A x), which the
+// solve must return to round-off, and LAPACK's LU of the whole matrix (dgetrf/dgetrs).
+#include <multibody/condensed_lu.h>
+#include <multibody/lapack.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+using flextrack::multibody::CondensedLU;
+
+namespace
+{
+/// A column-major n x n matrix whose first m unknowns couple among themselves only within the
+/// given blocks (interleaved, as a body's R and p are not next to each other in general), with
+/// a diagonal of 50 in those blocks (cj I dominates a Newton matrix's position rows) and random
+/// entries elsewhere.
+std::vector<double> matrix_with_blocks(const unsigned int n, const unsigned int m,
+                                       const std::vector<std::vector<unsigned int>> &blocks, std::mt19937 &rng)
+{
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> a(std::size_t(n) * n);
+  const auto at = [&](unsigned int r, unsigned int c) -> double & { return a[std::size_t(c) * n + r]; };
+  for (unsigned int c = 0; c < n; ++c)
+    for (unsigned int r = 0; r < n; ++r)
+      if (r >= m || c >= m) at(r, c) = u(rng);
+  for (unsigned int r = m; r < n; ++r) at(r, r) += 5;
+  std::vector<bool> in_block(m, false);
+  for (const auto &block : blocks)
+    for (const unsigned int r : block)
+      {
+        in_block[r] = true;
+        for (const unsigned int c : block) at(r, c) = (r == c ? 50 : 0) + u(rng);
+      }
+  for (unsigned int r = 0; r < m; ++r)
+    if (!in_block[r]) at(r, r) = 50 + u(rng);
+  return a;
+}
+
+std::vector<double> times(const std::vector<double> &a, const std::vector<double> &x)
+{
+  const std::size_t n = x.size();
+  std::vector<double> b(n, 0.0);
+  for (std::size_t c = 0; c < n; ++c)
+    for (std::size_t r = 0; r < n; ++r) b[r] += a[c * n + r] * x[c];
+  return b;
+}
+
+double largest_difference(const std::vector<double> &x, const std::vector<double> &y)
+{
+  double d = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) d = std::max(d, std::abs(x[i] - y[i]));
+  return d;
+}
+} // namespace
+
+TEST(CondensedLU, solves_with_uncoupled_position_blocks_as_the_whole_lu_does)
+{
+  // 40 unknowns, the first 18 in a block of 7 (like a body's R and p), one of 4 and 7 alone.
+  const unsigned int n = 40, m = 18;
+  std::mt19937 rng(3);
+  const std::vector<std::vector<unsigned int>> blocks = {{0, 3, 5, 8, 11, 14, 17}, {1, 4, 9, 16}};
+  std::vector<double> a = matrix_with_blocks(n, m, blocks, rng), whole = a;
+  std::vector<double> x(n);
+  for (unsigned int i = 0; i < n; ++i) x[i] = std::sin(0.7 * i + 0.2);
+  const std::vector<double> b = times(a, x);
+
+  CondensedLU lu;
+  ASSERT_EQ(lu.factorize(a.data(), n, m), CondensedLU::Result::factored);
+  EXPECT_EQ(lu.complement_size(), n - m);
+  std::vector<double> condensed = b;
+  lu.solve(a.data(), condensed.data());
+
+  const int N = n, one = 1;
+  std::vector<int> pivots(n);
+  int info = 0;
+  dgetrf_(&N, &N, whole.data(), &N, pivots.data(), &info);
+  ASSERT_EQ(info, 0);
+  std::vector<double> reference = b;
+  dgetrs_("N", &N, &one, whole.data(), &N, pivots.data(), reference.data(), &N, &info);
+  ASSERT_EQ(info, 0);
+  // Both to the manufactured x within round-off (|x| <= 1, condition number of order 100):
+  // 1e-12; and to each other.
+  EXPECT_LT(largest_difference(condensed, x), 1e-12);
+  EXPECT_LT(largest_difference(reference, x), 1e-12);
+  EXPECT_LT(largest_difference(condensed, reference), 1e-12);
+}
+
+TEST(CondensedLU, leaves_coupled_or_singular_position_blocks_to_the_whole_lu)
+{
+  const unsigned int n = 20, m = 10;
+  std::mt19937 rng(5);
+  CondensedLU lu;
+  {
+    // The first 9 unknowns coupled in a chain (a block of 9 > max_block = 8): not applicable,
+    // and the matrix left as it was.
+    std::vector<double> a = matrix_with_blocks(n, m, {}, rng);
+    for (unsigned int i = 0; i + 1 < 9; ++i) a[std::size_t(i + 1) * n + i] = 0.5;
+    const std::vector<double> before = a;
+    EXPECT_EQ(lu.factorize(a.data(), n, m), CondensedLU::Result::not_applicable);
+    EXPECT_EQ(a, before);
+  }
+  {
+    // A zero position block (a static solve: cj = 0 and no d(T v)/dq in a modal row).
+    std::vector<double> a = matrix_with_blocks(n, m, {}, rng);
+    a[std::size_t(4) * n + 4] = 0;
+    const std::vector<double> before = a;
+    EXPECT_EQ(lu.factorize(a.data(), n, m), CondensedLU::Result::not_applicable);
+    EXPECT_EQ(a, before);
+  }
+  {
+    // Two equal rows among the rest: the matrix is singular, and so is its complement.
+    std::vector<double> a = matrix_with_blocks(n, m, {{0, 1}}, rng);
+    for (unsigned int c = 0; c < n; ++c) a[std::size_t(c) * n + 15] = a[std::size_t(c) * n + 12];
+    EXPECT_EQ(lu.factorize(a.data(), n, m), CondensedLU::Result::singular);
+  }
+}
