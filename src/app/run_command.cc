@@ -113,7 +113,7 @@ io::JsonObject statistics_json(const multibody::IntegratorStatistics &s, const m
     .add("residual_evaluations", static_cast<double>(s.residual_evaluations))
     .add("jacobian_evaluations", static_cast<double>(s.jacobian_evaluations))
     .add("factorizations", static_cast<double>(s.factorizations))
-    .add("factorizations_with_positions_condensed", static_cast<double>(system.n_condensed_factorizations()))
+    .add("factorizations_with_positions_condensed", static_cast<double>(s.condensed_factorizations))
     .add("last_step_s", s.last_step);
   io::JsonObject limiters; // unknown -> steps at which it had the largest weighted local error
   for (const auto &[name, steps] : step_limiters(s, system, 5)) limiters.add(name, static_cast<double>(steps));
@@ -406,9 +406,9 @@ int run_command(const Options &options, const io::SceneFile &file)
             << stats.nonlinear_convergence_failures << " by Newton), " << stats.residual_evaluations << " residuals, "
             << stats.jacobian_evaluations << " Jacobians (" << stats.newton_restarts
             << " of them where Newton did not converge with an older one and solved the step again)";
-  if (system.n_condensed_factorizations() > 0)
-    std::cout << ", " << system.n_condensed_factorizations() << " of " << stats.factorizations
-              << " factorisations with the positions condensed out (an LU of " << system.condensed_size() << " of the "
+  if (stats.condensed_factorizations > 0)
+    std::cout << ", " << stats.condensed_factorizations << " of " << stats.factorizations
+              << " factorisations with the positions condensed out (an LU of " << stats.condensed_unknowns << " of the "
               << system.size() << " unknowns)";
   std::cout << "\n  largest over the output rows: |Phi| " << std::setprecision(3)
             << recorder.max_position_residual << " m or rad (position tolerance " << position_yardstick

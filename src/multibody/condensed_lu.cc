@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,60 @@ namespace flextrack::multibody
 {
 namespace
 {
+using Complex = std::complex<double>;
+
+// BLAS and LAPACK by scalar type.
+void gemm(const int m, const int n, const int k, const double *a, const int lda, const double *b, const int ldb, double *c,
+          const int ldc) // c -= a b
+{
+  const double minus_one = -1, one = 1;
+  dgemm_("N", "N", &m, &n, &k, &minus_one, a, &lda, b, &ldb, &one, c, &ldc);
+}
+void gemm(const int m, const int n, const int k, const Complex *a, const int lda, const Complex *b, const int ldb,
+          Complex *c, const int ldc)
+{
+  const Complex minus_one = -1, one = 1;
+  zgemm_("N", "N", &m, &n, &k, &minus_one, a, &lda, b, &ldb, &one, c, &ldc);
+}
+void gemv(const int m, const int n, const double *a, const int lda, const double *x, double *y) // y -= a x
+{
+  const double minus_one = -1, one = 1;
+  const int step = 1;
+  dgemv_("N", &m, &n, &minus_one, a, &lda, x, &step, &one, y, &step);
+}
+void gemv(const int m, const int n, const Complex *a, const int lda, const Complex *x, Complex *y)
+{
+  const Complex minus_one = -1, one = 1;
+  const int step = 1;
+  zgemv_("N", &m, &n, &minus_one, a, &lda, x, &step, &one, y, &step);
+}
+int getrf(const int n, double *a, const int lda, int *pivots)
+{
+  int info = 0;
+  dgetrf_(&n, &n, a, &lda, pivots, &info);
+  return info;
+}
+int getrf(const int n, Complex *a, const int lda, int *pivots)
+{
+  int info = 0;
+  zgetrf_(&n, &n, a, &lda, pivots, &info);
+  return info;
+}
+int getrs(const int n, const double *a, const int lda, const int *pivots, double *x)
+{
+  const int one = 1;
+  int info = 0;
+  dgetrs_("N", &n, &one, a, &lda, pivots, x, &n, &info);
+  return info;
+}
+int getrs(const int n, const Complex *a, const int lda, const int *pivots, Complex *x)
+{
+  const int one = 1;
+  int info = 0;
+  zgetrs_("N", &n, &one, a, &lda, pivots, x, &n, &info);
+  return info;
+}
+
 unsigned int root(std::vector<unsigned int> &parent, unsigned int i)
 {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -21,7 +76,8 @@ unsigned int root(std::vector<unsigned int> &parent, unsigned int i)
 /// LU with partial pivoting of the k x k row-major block @p a in place; false if a pivot is
 /// below 1e-8 of the block's largest entry: such a block is left to the full LU, whose pivoting
 /// ranges over all unknowns.
-bool small_lu(double *a, const unsigned int k, int *pivots)
+template <typename Number>
+bool small_lu(Number *a, const unsigned int k, int *pivots)
 {
   double largest = 0;
   for (unsigned int i = 0; i < k * k; ++i) largest = std::max(largest, std::abs(a[i]));
@@ -36,7 +92,7 @@ bool small_lu(double *a, const unsigned int k, int *pivots)
         for (unsigned int j = 0; j < k; ++j) std::swap(a[c * k + j], a[p * k + j]);
       for (unsigned int r = c + 1; r < k; ++r)
         {
-          const double f = a[r * k + c] /= a[c * k + c];
+          const Number f = a[r * k + c] /= a[c * k + c];
           for (unsigned int j = c + 1; j < k; ++j) a[r * k + j] -= f * a[c * k + j];
         }
     }
@@ -44,7 +100,8 @@ bool small_lu(double *a, const unsigned int k, int *pivots)
 }
 
 /// b = (LU)^{-1} b for the factors of small_lu().
-void small_solve(const double *a, const unsigned int k, const int *pivots, double *b)
+template <typename Number>
+void small_solve(const Number *a, const unsigned int k, const int *pivots, Number *b)
 {
   for (unsigned int c = 0; c < k; ++c)
     {
@@ -59,18 +116,19 @@ void small_solve(const double *a, const unsigned int k, const int *pivots, doubl
 }
 } // namespace
 
-CondensedLU::Result CondensedLU::factorize(double *a, const unsigned int n_, const unsigned int n_leading)
+template <typename Number>
+CondensedResult CondensedLU<Number>::factorize(Number *a, const unsigned int n_, const unsigned int n_leading)
 {
   n = n_, n_lead = n_leading;
   const unsigned int m = n_lead;
-  const auto at = [&](const unsigned int row, const unsigned int col) -> double & { return a[std::size_t(col) * n + row]; };
+  const auto at = [&](const unsigned int row, const unsigned int col) -> Number & { return a[std::size_t(col) * n + row]; };
 
   // The leading unknowns coupled by a nonzero entry of G_QQ form one block.
   std::vector<unsigned int> parent(m);
   std::iota(parent.begin(), parent.end(), 0u);
   for (unsigned int j = 0; j < m; ++j)
     for (unsigned int i = 0; i < m; ++i)
-      if (i != j && at(i, j) != 0) parent[root(parent, i)] = root(parent, j);
+      if (i != j && at(i, j) != Number(0)) parent[root(parent, i)] = root(parent, j);
   std::vector<unsigned int> block_of(m), size;
   std::vector<int> block_of_root(m, -1);
   for (unsigned int i = 0; i < m; ++i)
@@ -98,7 +156,7 @@ CondensedLU::Result CondensedLU::factorize(double *a, const unsigned int n_, con
   for (unsigned int b = 0; b < n_blocks; ++b)
     {
       const unsigned int k = size[b], *members = block_members.data() + block_start[b];
-      double *f = block_factors.data() + block_factor_start[b];
+      Number *f = block_factors.data() + block_factor_start[b];
       for (unsigned int r = 0; r < k; ++r)
         for (unsigned int c = 0; c < k; ++c) f[r * k + c] = at(members[r], members[c]);
       if (!small_lu(f, k, block_pivots.data() + block_start[b])) return Result::not_applicable;
@@ -107,33 +165,30 @@ CondensedLU::Result CondensedLU::factorize(double *a, const unsigned int n_, con
   // C = G_QQ^{-1} G_QR over G_QR, S = G_RR - G_RQ C over G_RR, then S's LU.
   const int rest = n - m, lead = m, ld = n;
   solve_blocks(a + std::size_t(m) * n, rest, n);
-  const double minus_one = -1, one = 1;
-  if (rest > 0 && lead > 0)
-    dgemm_("N", "N", &rest, &rest, &lead, &minus_one, a + m, &ld, a + std::size_t(m) * n, &ld, &one,
-           a + std::size_t(m) * n + m, &ld);
+  if (rest > 0 && lead > 0) gemm(rest, rest, lead, a + m, ld, a + std::size_t(m) * n, ld, a + std::size_t(m) * n + m, ld);
   complement_pivots.resize(rest);
-  int info = 0;
-  if (rest > 0) dgetrf_(&rest, &rest, a + std::size_t(m) * n + m, &ld, complement_pivots.data(), &info);
-  if (info < 0) throw std::logic_error("LAPACK dgetrf: argument " + std::to_string(-info) + " is invalid");
+  const int info = rest > 0 ? getrf(rest, a + std::size_t(m) * n + m, ld, complement_pivots.data()) : 0;
+  if (info < 0) throw std::logic_error("LAPACK getrf: argument " + std::to_string(-info) + " is invalid");
   return info == 0 ? Result::factored : Result::singular;
 }
 
-void CondensedLU::solve_blocks(double *x, const unsigned int columns, const unsigned int ld) const
+template <typename Number>
+void CondensedLU<Number>::solve_blocks(Number *x, const unsigned int columns, const unsigned int ld) const
 {
-  double b[max_block];
+  Number b[max_block];
   for (unsigned int k = 0; k + 1 < block_start.size(); ++k)
     {
       const unsigned int size = block_start[k + 1] - block_start[k], *members = block_members.data() + block_start[k];
-      const double *f = block_factors.data() + block_factor_start[k];
+      const Number *f = block_factors.data() + block_factor_start[k];
       if (size == 1) // most blocks: a modal or track coordinate alone
         {
-          const double d = f[0];
+          const Number d = f[0];
           for (unsigned int c = 0; c < columns; ++c) x[std::size_t(c) * ld + members[0]] /= d;
           continue;
         }
       for (unsigned int c = 0; c < columns; ++c)
         {
-          double *column = x + std::size_t(c) * ld;
+          Number *column = x + std::size_t(c) * ld;
           for (unsigned int r = 0; r < size; ++r) b[r] = column[members[r]];
           small_solve(f, size, block_pivots.data() + block_start[k], b);
           for (unsigned int r = 0; r < size; ++r) column[members[r]] = b[r];
@@ -141,19 +196,18 @@ void CondensedLU::solve_blocks(double *x, const unsigned int columns, const unsi
     }
 }
 
-void CondensedLU::solve(const double *a, double *x) const
+template <typename Number>
+void CondensedLU<Number>::solve(const Number *a, Number *x) const
 {
-  const int rest = n - n_lead, lead = n_lead, ld = n, one_step = 1;
-  const double minus_one = -1, one = 1;
+  const int rest = n - n_lead, lead = n_lead, ld = n;
   solve_blocks(x, 1, n); // y_Q = G_QQ^{-1} b_Q
-  double *x_rest = x + n_lead;
-  if (rest > 0 && lead > 0) // b_R - G_RQ y_Q
-    dgemv_("N", &rest, &lead, &minus_one, a + n_lead, &ld, x, &one_step, &one, x_rest, &one_step);
-  int info = 0;
-  if (rest > 0)
-    dgetrs_("N", &rest, &one_step, a + std::size_t(n_lead) * n + n_lead, &ld, complement_pivots.data(), x_rest, &rest, &info);
-  if (info != 0) throw std::runtime_error("LAPACK could not solve with the condensed Jacobian (dgetrs status " + std::to_string(info) + ")");
-  if (rest > 0 && lead > 0) // x_Q = y_Q - C x_R
-    dgemv_("N", &lead, &rest, &minus_one, a + std::size_t(n_lead) * n, &ld, x_rest, &one_step, &one, x, &one_step);
+  Number *x_rest = x + n_lead;
+  if (rest > 0 && lead > 0) gemv(rest, lead, a + n_lead, ld, x, x_rest); // b_R - G_RQ y_Q
+  const int info = rest > 0 ? getrs(rest, a + std::size_t(n_lead) * n + n_lead, ld, complement_pivots.data(), x_rest) : 0;
+  if (info != 0) throw std::runtime_error("LAPACK could not solve with the condensed Jacobian (getrs status " + std::to_string(info) + ")");
+  if (rest > 0 && lead > 0) gemv(lead, rest, a + std::size_t(n_lead) * n, ld, x_rest, x); // x_Q = y_Q - C x_R
 }
+
+template class CondensedLU<double>;
+template class CondensedLU<std::complex<double>>;
 } // namespace flextrack::multibody

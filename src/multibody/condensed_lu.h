@@ -13,29 +13,35 @@
 // Where the block does not split so (a joint whose markers sit on one body, derivatives taken by
 // differences; a static solve with cj = 0, whose q-q block is singular), or a block's pivot is
 // poor, factorize() says so, leaves the matrix as it was, and the caller factorises it whole.
+//
+// Number is double (IDA's and generalised-alpha's Newton matrix, Radau IIA's real one) or
+// std::complex<double> (Radau IIA's complex Newton matrix J + (alpha - i beta) / h M).
 #pragma once
 
 #include <vector>
 
 namespace flextrack::multibody
 {
+enum class CondensedResult
+{
+  factored,
+  singular,      ///< the complement has an exactly zero pivot: the matrix is singular
+  not_applicable ///< the leading block does not split into small, well-pivoted blocks
+};
+
+template <typename Number>
 class CondensedLU
 {
 public:
-  enum class Result
-  {
-    factored,
-    singular,      ///< the complement has an exactly zero pivot: the matrix is singular
-    not_applicable ///< the leading block does not split into small, well-pivoted blocks
-  };
+  using Result = CondensedResult;
   /// The largest block of leading unknowns eliminated as one (a body's R and p are 7).
   static constexpr unsigned int max_block = 8;
 
   /// Factorises the dense column-major n x n matrix @p a in place (C over G_QR, S's LU factors over
   /// G_RR), eliminating its first @p n_leading unknowns. Unchanged unless the result is factored.
-  Result factorize(double *a, unsigned int n, unsigned int n_leading);
+  Result factorize(Number *a, unsigned int n, unsigned int n_leading);
   /// x = A^{-1} x with the factors in @p a, after factorize() returned factored.
-  void solve(const double *a, double *x) const;
+  void solve(const Number *a, Number *x) const;
   /// The unknowns left in the dense complement (after factorize()).
   unsigned int complement_size() const { return n - n_lead; }
 
@@ -43,11 +49,11 @@ private:
   unsigned int n = 0, n_lead = 0;
   /// The leading blocks: their unknowns, and their LU factors (row major, k x k) with row swaps.
   std::vector<unsigned int> block_start, block_members, block_factor_start;
-  std::vector<double> block_factors;
+  std::vector<Number> block_factors;
   std::vector<int> block_pivots;
   std::vector<int> complement_pivots; ///< S's row swaps (LAPACK)
 
   /// x_Q = G_QQ^{-1} x_Q, the leading entries of each column of the n x @p columns array @p x.
-  void solve_blocks(double *x, unsigned int columns, unsigned int ld) const;
+  void solve_blocks(Number *x, unsigned int columns, unsigned int ld) const;
 };
 } // namespace flextrack::multibody

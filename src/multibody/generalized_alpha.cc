@@ -113,6 +113,8 @@ bool GeneralizedAlphaIntegrator::attempt_step(const double h)
           ++stats.factorizations;
           matrix_c = std::numeric_limits<double>::quiet_NaN(); // no usable factors until this one succeeds
           if (!system.factorize()) return false;
+          stats.condensed_factorizations = system.n_condensed_factorizations();
+          stats.condensed_unknowns = system.condensed_size();
           matrix_c = c;
           matrix_fresh = true;
         }

@@ -407,6 +407,8 @@ IntegratorStatistics IdaIntegrator::statistics() const
   IDAGetNumResEvals(sun->ida, &s.residual_evaluations);
   IDAGetNumJacEvals(sun->ida, &s.jacobian_evaluations);
   IDAGetNumLinSolvSetups(sun->ida, &s.factorizations);
+  s.condensed_factorizations = system.n_condensed_factorizations(); // over the whole run, restarts included
+  s.condensed_unknowns = system.condensed_size();
   IDAGetLastStep(sun->ida, &s.last_step);
   s.order_histogram = histogram;
   s.steps_limited_by = limited_by;

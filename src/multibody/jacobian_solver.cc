@@ -220,12 +220,12 @@ bool JacobianSolver::factorize_dense()
   if (n_condensed > 0)
     switch (condensed.factorize(dense_factors.data(), n, n_condensed))
       {
-        case CondensedLU::Result::factored:
+        case CondensedResult::factored:
           ++condensed_count;
           return dense_factored = used_condensed = true;
-        case CondensedLU::Result::singular:
+        case CondensedResult::singular:
           return dense_factored = false;
-        case CondensedLU::Result::not_applicable:
+        case CondensedResult::not_applicable:
           break; // the whole matrix, unchanged, below
       }
   int info = 0;

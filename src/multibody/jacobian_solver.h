@@ -80,7 +80,7 @@ private:
   // the factors with the first n_condensed unknowns condensed out (used_condensed).
   bool dense_factored = false, used_condensed = false;
   unsigned int n_condensed = 0;
-  CondensedLU condensed;
+  CondensedLU<double> condensed;
   std::vector<double> dense_factors;
   std::vector<int> dense_pivots;
   bool factorize_dense();

@@ -1,6 +1,6 @@
 // LAPACK's LU with partial pivoting and its solve, real and complex (Debian's liblapack, which
 // deal.II links): the dense factorisations of the Jacobian (jacobian_solver.cc) and of Radau IIA's
-// Newton matrices (radau_iia.cc); BLAS' dgemm and dgemv for the condensed LU (condensed_lu.cc).
+// Newton matrices (radau_iia.cc); BLAS' gemm and gemv for the condensed LU (condensed_lu.cc).
 #pragma once
 
 #include <complex>
@@ -15,6 +15,13 @@ extern "C"
               const int *ldc);
   void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a, const int *lda,
               const double *x, const int *incx, const double *beta, double *y, const int *incy);
+  void zgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k,
+              const std::complex<double> *alpha, const std::complex<double> *a, const int *lda,
+              const std::complex<double> *b, const int *ldb, const std::complex<double> *beta, std::complex<double> *c,
+              const int *ldc);
+  void zgemv_(const char *trans, const int *m, const int *n, const std::complex<double> *alpha,
+              const std::complex<double> *a, const int *lda, const std::complex<double> *x, const int *incx,
+              const std::complex<double> *beta, std::complex<double> *y, const int *incy);
   void zgetrf_(const int *m, const int *n, std::complex<double> *a, const int *lda, int *ipiv, int *info);
   void zgetrs_(const char *trans, const int *n, const int *nrhs, const std::complex<double> *a, const int *lda,
                const int *ipiv, std::complex<double> *b, const int *ldb, int *info);

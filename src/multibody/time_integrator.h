@@ -80,6 +80,10 @@ struct IntegratorStatistics
   /// was rebuilt and the same step solved again: a cost of modified Newton, not a rejected step.
   long newton_restarts = 0;
   long residual_evaluations = 0, jacobian_evaluations = 0, factorizations = 0;
+  /// Factorisations with the positions condensed out (condensed_lu.h), and the unknowns left in
+  /// their LU (of the last one).
+  long condensed_factorizations = 0;
+  unsigned int condensed_unknowns = 0;
   std::array<long, 6> order_histogram{}; ///< steps taken at order 1..5 (index = order)
   double last_step = 0;                  ///< [s]
   /// Per unknown, the steps at which it had the largest weighted local error (IDA: the unknown
