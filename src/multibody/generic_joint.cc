@@ -4,6 +4,8 @@
 #include <multibody/generic_joint.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 
 namespace flextrack::multibody
 {
@@ -14,10 +16,31 @@ namespace
 const char *axis_name[] = {"x", "y", "z"};
 }
 
+namespace
+{
+std::atomic<unsigned long long> next_workspace_id{1};
+}
+
+GenericJoint::Local &GenericJoint::workspace() const
+{
+  struct Slot
+  {
+    unsigned long long owner = 0;
+    Local local;
+  };
+  thread_local std::array<Slot, 16> slots;
+  thread_local unsigned int next = 0;
+  for (Slot &slot : slots)
+    if (slot.owner == id) return slot.local;
+  Slot &slot = slots[next++ % slots.size()];
+  slot.owner = id;
+  return slot.local;
+}
+
 GenericJoint::GenericJoint(std::string name, std::unique_ptr<Marker> follower, std::unique_ptr<Marker> base,
                            const JointMask &mask, const DriverKind driver_kind,
                            std::shared_ptr<const geometry::Expression> driver_law)
-  : Joint(std::move(name)), driver(driver_kind), law(std::move(driver_law))
+  : Joint(std::move(name)), driver(driver_kind), law(std::move(driver_law)), id(next_workspace_id++)
 {
   markers[0] = std::move(follower);
   markers[1] = std::move(base);
@@ -141,9 +164,8 @@ void GenericJoint::driver_rates(const std::vector<const double *> &q, const doub
   if (angle)
     {
       // The angle row's Phi_t needs both markers' axes: evaluate the rows as a whole.
-      thread_local Local l;
       thread_local Vector<double> phi;
-      evaluate_rows(q, own_q, t, l, phi, phi_t);
+      evaluate_rows(q, own_q, t, workspace(), phi, phi_t);
       return;
     }
   phi_t.reinit(rows.size());
@@ -161,7 +183,7 @@ void GenericJoint::evaluate(const std::vector<const double *> &q, const double *
   // Reused between calls (the residual evaluates every joint several times per step): its
   // matrices keep their storage, which saves about 10 heap allocations per call. Nothing
   // evaluated from here evaluates a joint again, and each thread has its own.
-  thread_local Local l;
+  Local &l = workspace();
   evaluate_rows(q, own_q, t, l, e.phi, e.phi_t);
   e.B.resize(2);
   e.B_own.reinit(rows.size(), n_own_coordinates());
@@ -270,7 +292,7 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
   // body's q and its own coordinates: one marker evaluation per step, not a joint's.
   if (&markers[0]->body() == &markers[1]->body()) return false;
 
-  thread_local Local l;
+  Local &l = workspace();
   thread_local Vector<double> phi, phi_t;
   evaluate_rows(q, own_q, t, l, phi, phi_t);
   double angle = 0, angle_rate = 0;

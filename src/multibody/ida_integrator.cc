@@ -60,7 +60,7 @@ struct IdaCallbacks
   static int residual(realtype t, N_Vector y, N_Vector yp, N_Vector r, void *data)
   {
     auto *self = static_cast<IdaIntegrator *>(data);
-    Vector<double> yy, yyp, F;
+    thread_local Vector<double> yy, yyp, F; // kept: a fresh vector is an allocation per call
     to_vector(y, yy);
     to_vector(yp, yyp);
     try

@@ -286,9 +286,14 @@ void System::joint_residual(const unsigned int j, const double t, const Vector<d
   unsigned int n_q_cols = n_own, n_v_cols = n_own;
   for (const unsigned int b : s.body_index) n_q_cols += bodies[b].body->n_q(), n_v_cols += bodies[b].body->n_v();
   out.assign(ind.rows.size(), 0.0);
-  // Reused between calls, as GenericJoint::evaluate's workspace (the storage of B, Phi_q).
-  thread_local JointEvaluation e;
-  thread_local FullMatrix<double> Phi_q;
+  // Reused between calls, as GenericJoint::evaluate's workspace (the storage of B, Phi_q), one
+  // per joint: shared by the joints, each would resize the other joints' matrices (a ground
+  // marker's n x 0 block frees the storage, which the next joint allocates again).
+  thread_local std::vector<JointEvaluation> evaluations;
+  thread_local std::vector<FullMatrix<double>> position_jacobians;
+  if (evaluations.size() <= j) evaluations.resize(j + 1), position_jacobians.resize(j + 1);
+  JointEvaluation &e = evaluations[j];
+  FullMatrix<double> &Phi_q = position_jacobians[j];
   s.joint->evaluate(joint_q(j, y), n_own ? (y.begin() + (s.own_q)) : nullptr, t, e);
   joint_position_jacobian(j, y, e, Phi_q);
   const double *lambda = (y.begin() + (nq + nv + s.multiplier)), *mu = (y.begin() + (nq + nv + nlambda + s.multiplier));
