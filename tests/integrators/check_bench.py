@@ -14,6 +14,7 @@ import csv
 import math
 import os
 import shutil
+import re
 import subprocess
 import sys
 
@@ -31,7 +32,7 @@ def main():
     with open(os.path.join(folder, "bench.csv")) as f:
         lines = f.read().splitlines()
     header = [l for l in lines if l.startswith("#")]
-    assert any("reference: IDA rtol" in l for l in header), "bench.csv: no reference line in the header"
+    assert any(re.search(r"reference: (Radau IIA|IDA) rtol", l) for l in header), "bench.csv: no reference line in the header"
     assert any("error_" in l and "largest distance" in l for l in header), "bench.csv: no error definition in the header"
     rows = list(csv.DictReader(l for l in lines if not l.startswith("#")))
     ida = [r for r in rows if r["method"] == "ida"]
