@@ -99,15 +99,14 @@ bool small_lu(Number *a, const unsigned int k, int *pivots)
   return true;
 }
 
-/// b = (LU)^{-1} b for the factors of small_lu().
+/// b = (LU)^{-1} b for the factors of small_lu(). Its swaps moved whole rows, the multipliers
+/// already stored included (as LAPACK's), so P b comes first, then the forward substitution.
 template <typename Number>
 void small_solve(const Number *a, const unsigned int k, const int *pivots, Number *b)
 {
+  for (unsigned int c = 0; c < k; ++c) std::swap(b[c], b[pivots[c]]);
   for (unsigned int c = 0; c < k; ++c)
-    {
-      std::swap(b[c], b[pivots[c]]);
-      for (unsigned int r = c + 1; r < k; ++r) b[r] -= a[r * k + c] * b[c];
-    }
+    for (unsigned int r = c + 1; r < k; ++r) b[r] -= a[r * k + c] * b[c];
   for (unsigned int c = k; c-- > 0;)
     {
       for (unsigned int j = c + 1; j < k; ++j) b[c] -= a[c * k + j] * b[j];

@@ -20,9 +20,11 @@ namespace
 /// A column-major n x n matrix whose first m unknowns couple among themselves only within the
 /// given blocks (interleaved, as a body's R and p are not next to each other in general), with
 /// a diagonal of 50 in those blocks (cj I dominates a Newton matrix's position rows) and random
-/// entries elsewhere.
+/// entries elsewhere. @p swapped: the 50 on each block's anti-diagonal instead, so that the
+/// block's LU swaps rows at every step (as a frame's block does when h |omega| is of order 1).
 std::vector<double> matrix_with_blocks(const unsigned int n, const unsigned int m,
-                                       const std::vector<std::vector<unsigned int>> &blocks, std::mt19937 &rng)
+                                       const std::vector<std::vector<unsigned int>> &blocks, std::mt19937 &rng,
+                                       const bool swapped = false)
 {
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<double> a(std::size_t(n) * n);
@@ -33,10 +35,11 @@ std::vector<double> matrix_with_blocks(const unsigned int n, const unsigned int 
   for (unsigned int r = m; r < n; ++r) at(r, r) += 5;
   std::vector<bool> in_block(m, false);
   for (const auto &block : blocks)
-    for (const unsigned int r : block)
+    for (unsigned int i = 0; i < block.size(); ++i)
       {
-        in_block[r] = true;
-        for (const unsigned int c : block) at(r, c) = (r == c ? 50 : 0) + u(rng);
+        in_block[block[i]] = true;
+        for (unsigned int k = 0; k < block.size(); ++k)
+          at(block[i], block[k]) = ((swapped ? i + k + 1 == block.size() : i == k) ? 50 : 0) + u(rng);
       }
   for (unsigned int r = 0; r < m; ++r)
     if (!in_block[r]) at(r, r) = 50 + u(rng);
@@ -62,11 +65,16 @@ double largest_difference(const std::vector<double> &x, const std::vector<double
 
 TEST(CondensedLU, solves_with_uncoupled_position_blocks_as_the_whole_lu_does)
 {
-  // 40 unknowns, the first 18 in a block of 7 (like a body's R and p), one of 4 and 7 alone.
+  // 40 unknowns, the first 18 in a block of 7 (like a body's R and p), one of 4 and 7 alone;
+  // the blocks diagonally dominant, and with their large entries on the anti-diagonal (row swaps
+  // at every step of the blocks' LU).
+  for (const bool swapped : {false, true})
+  {
+  SCOPED_TRACE(swapped ? "blocks that need row swaps" : "diagonally dominant blocks");
   const unsigned int n = 40, m = 18;
   std::mt19937 rng(3);
   const std::vector<std::vector<unsigned int>> blocks = {{0, 3, 5, 8, 11, 14, 17}, {1, 4, 9, 16}};
-  std::vector<double> a = matrix_with_blocks(n, m, blocks, rng), whole = a;
+  std::vector<double> a = matrix_with_blocks(n, m, blocks, rng, swapped), whole = a;
   std::vector<double> x(n);
   for (unsigned int i = 0; i < n; ++i) x[i] = std::sin(0.7 * i + 0.2);
   const std::vector<double> b = times(a, x);
@@ -90,6 +98,7 @@ TEST(CondensedLU, solves_with_uncoupled_position_blocks_as_the_whole_lu_does)
   EXPECT_LT(largest_difference(condensed, x), 1e-12);
   EXPECT_LT(largest_difference(reference, x), 1e-12);
   EXPECT_LT(largest_difference(condensed, reference), 1e-12);
+  }
 }
 
 TEST(CondensedLU, leaves_coupled_or_singular_position_blocks_to_the_whole_lu)
@@ -131,7 +140,8 @@ TEST(CondensedLU, solves_a_complex_matrix_as_the_whole_lu_does)
   const unsigned int n = 30, m = 12;
   std::mt19937 rng(9);
   const std::vector<std::vector<unsigned int>> blocks = {{0, 2, 4, 6, 8, 10, 11}, {1, 3}};
-  const std::vector<double> re = matrix_with_blocks(n, m, blocks, rng), im = matrix_with_blocks(n, m, blocks, rng);
+  // The real part's blocks need row swaps (anti-diagonal), as in the real test's second case.
+  const std::vector<double> re = matrix_with_blocks(n, m, blocks, rng, true), im = matrix_with_blocks(n, m, blocks, rng);
   std::vector<Complex> a(re.size()), x(n), b(n, 0.0);
   for (std::size_t k = 0; k < a.size(); ++k) a[k] = Complex(re[k], 0.3 * im[k]);
   for (unsigned int i = 0; i < n; ++i) x[i] = Complex(std::sin(0.4 * i), std::cos(0.9 * i));
