@@ -16,18 +16,6 @@ namespace
 using Complex = std::complex<double>;
 
 // BLAS and LAPACK by scalar type.
-void gemm(const int m, const int n, const int k, const double *a, const int lda, const double *b, const int ldb, double *c,
-          const int ldc) // c -= a b
-{
-  const double minus_one = -1, one = 1;
-  dgemm_("N", "N", &m, &n, &k, &minus_one, a, &lda, b, &ldb, &one, c, &ldc);
-}
-void gemm(const int m, const int n, const int k, const Complex *a, const int lda, const Complex *b, const int ldb,
-          Complex *c, const int ldc)
-{
-  const Complex minus_one = -1, one = 1;
-  zgemm_("N", "N", &m, &n, &k, &minus_one, a, &lda, b, &ldb, &one, c, &ldc);
-}
 void gemv(const int m, const int n, const double *a, const int lda, const double *x, double *y) // y -= a x
 {
   const double minus_one = -1, one = 1;
@@ -65,6 +53,32 @@ int getrs(const int n, const Complex *a, const int lda, const int *pivots, Compl
   int info = 0;
   zgetrs_("N", &n, &one, a, &lda, pivots, x, &n, &info);
   return info;
+}
+
+// y -= c x over n entries, and x *= c. std::complex's operator* checks for infinities and NaNs
+// through libgcc's __muldc3 on every product (without -fcx-limited-range), which made the
+// complex loops slower than zgemm over the dense matrix: written out on the parts instead (the
+// standard lets a complex<double> array be read as its real and imaginary parts).
+void subtract_multiple(const double c, const double *x, double *y, const unsigned int n)
+{
+  for (unsigned int r = 0; r < n; ++r) y[r] -= c * x[r];
+}
+void subtract_multiple(const Complex c, const Complex *x, Complex *y, const unsigned int n)
+{
+  const double cr = c.real(), ci = c.imag(), *xd = reinterpret_cast<const double *>(x);
+  double *yd = reinterpret_cast<double *>(y);
+  for (unsigned int r = 0; r < n; ++r)
+    {
+      const double xr = xd[2 * r], xi = xd[2 * r + 1];
+      yd[2 * r] -= cr * xr - ci * xi;
+      yd[2 * r + 1] -= cr * xi + ci * xr;
+    }
+}
+void scale(double &x, const double c) { x *= c; }
+void scale(Complex &x, const Complex c)
+{
+  const double xr = x.real(), xi = x.imag();
+  x = Complex(xr * c.real() - xi * c.imag(), xr * c.imag() + xi * c.real());
 }
 
 unsigned int root(std::vector<unsigned int> &parent, unsigned int i)
@@ -159,12 +173,23 @@ CondensedResult CondensedLU<Number>::factorize(Number *a, const unsigned int n_,
       for (unsigned int r = 0; r < k; ++r)
         for (unsigned int c = 0; c < k; ++c) f[r * k + c] = at(members[r], members[c]);
       if (!small_lu(f, k, block_pivots.data() + block_start[b])) return Result::not_applicable;
+      if (k == 1) f[0] = Number(1) / f[0]; // a 1 x 1 block keeps its reciprocal (solve_blocks)
     }
 
   // C = G_QQ^{-1} G_QR over G_QR, S = G_RR - G_RQ C over G_RR, then S's LU.
-  const int rest = n - m, lead = m, ld = n;
+  const int rest = n - m, ld = n;
   solve_blocks(a + std::size_t(m) * n, rest, n);
-  if (rest > 0 && lead > 0) gemm(rest, rest, lead, a + m, ld, a + std::size_t(m) * n, ld, a + std::size_t(m) * n + m, ld);
+  // S = G_RR - G_RQ C column by column over C's nonzeros only: a position row couples to few
+  // columns of the rest (its body's velocities through T, the multipliers of its joints), so C
+  // is mostly zero, and a dense gemm over it cost as much as the LU of S (Radau's complex
+  // matrix of the double-arm sleeve: 1.6e9 of 10e9 instructions).
+  for (unsigned int j = 0; j < static_cast<unsigned int>(rest); ++j)
+    {
+      const Number *c_j = a + std::size_t(m + j) * n;
+      Number *s_j = a + std::size_t(m + j) * n + m;
+      for (unsigned int k = 0; k < m; ++k)
+        if (c_j[k] != Number(0)) subtract_multiple(c_j[k], a + std::size_t(k) * n + m, s_j, rest); // G_RQ's column k
+    }
   complement_pivots.resize(rest);
   const int info = rest > 0 ? getrf(rest, a + std::size_t(m) * n + m, ld, complement_pivots.data()) : 0;
   if (info < 0) throw std::logic_error("LAPACK getrf: argument " + std::to_string(-info) + " is invalid");
@@ -179,10 +204,10 @@ void CondensedLU<Number>::solve_blocks(Number *x, const unsigned int columns, co
     {
       const unsigned int size = block_start[k + 1] - block_start[k], *members = block_members.data() + block_start[k];
       const Number *f = block_factors.data() + block_factor_start[k];
-      if (size == 1) // most blocks: a modal or track coordinate alone
+      if (size == 1) // most blocks: a modal or track coordinate alone; f holds its reciprocal
         {
-          const Number d = f[0];
-          for (unsigned int c = 0; c < columns; ++c) x[std::size_t(c) * ld + members[0]] /= d;
+          const Number inverse = f[0];
+          for (unsigned int c = 0; c < columns; ++c) scale(x[std::size_t(c) * ld + members[0]], inverse);
           continue;
         }
       for (unsigned int c = 0; c < columns; ++c)

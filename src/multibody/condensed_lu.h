@@ -6,7 +6,7 @@
 // is block diagonal - a body's frame (R, p), each modal or track coordinate alone - once the
 // Newton matrix leaves out d(Phi_q^T mu)/dq (System::use_newton_matrix). With Q the leading
 // unknowns and R the rest (velocities, multipliers):
-//   C = G_QQ^{-1} G_QR (block by block),  S = G_RR - G_RQ C (one dgemm),  LU of S,
+//   C = G_QQ^{-1} G_QR (block by block),  S = G_RR - G_RQ C (over C's nonzeros),  LU of S,
 // and a solve is y_Q = G_QQ^{-1} b_Q, x_R = S^{-1} (b_R - G_RQ y_Q), x_Q = y_Q - C x_R. The LU
 // then works on the velocities and multipliers only: the laser robot's 170 unknowns become 104.
 //

@@ -1,6 +1,6 @@
 // LAPACK's LU with partial pivoting and its solve, real and complex (Debian's liblapack, which
 // deal.II links): the dense factorisations of the Jacobian (jacobian_solver.cc) and of Radau IIA's
-// Newton matrices (radau_iia.cc); BLAS' gemm and gemv for the condensed LU (condensed_lu.cc).
+// Newton matrices (radau_iia.cc); BLAS' gemv for the condensed LU (condensed_lu.cc).
 #pragma once
 
 #include <complex>
@@ -10,15 +10,8 @@ extern "C"
   void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
   void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda, const int *ipiv,
                double *b, const int *ldb, int *info);
-  void dgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k, const double *alpha,
-              const double *a, const int *lda, const double *b, const int *ldb, const double *beta, double *c,
-              const int *ldc);
   void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a, const int *lda,
               const double *x, const int *incx, const double *beta, double *y, const int *incy);
-  void zgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k,
-              const std::complex<double> *alpha, const std::complex<double> *a, const int *lda,
-              const std::complex<double> *b, const int *ldb, const std::complex<double> *beta, std::complex<double> *c,
-              const int *ldc);
   void zgemv_(const char *trans, const int *m, const int *n, const std::complex<double> *alpha,
               const std::complex<double> *a, const int *lda, const std::complex<double> *x, const int *incx,
               const std::complex<double> *beta, std::complex<double> *y, const int *incy);

@@ -134,13 +134,16 @@ TEST(MultibodyFlexible, free_floating_body_conserves_energy_without_damping)
   // Without damping and without geometric stiffening (a linearised, non-conservative force) the
   // energy (kinetic + strain) is an invariant. BDF damps the ~100-1000 Hz modes slightly, so the
   // drift scales with the tolerance: 1e-6 relative at rtol 1e-9, and ten times less at 1e-10.
-  // Momentum is an exact invariant: its drift is the integrator's error, about 10 rtol at most,
-  // and falls with the tolerance (4.5e-10 at rtol 1e-10 and 7.6e-9 at 1e-9 on 2026-12-03).
+  // Momentum is an exact invariant: its drift is the integrator's error, about 10 rtol, and falls
+  // with the tolerance. At rtol 1e-10 the summation order of the linear solves alone moves it
+  // between 4.5e-10 and 1.12e-9 (2026-12-03: the same Newton matrix factorised whole, condensed,
+  // and condensed with its complement formed in another order; 9.2e-10 and 1.16e-9 with two KLU
+  // builds before), so the bound is 20 rtol; the other test holds 1e-9 at rtol 1e-11.
   const Drift coarse = run_free_rod(false, 0.2, 1e-9), fine = run_free_rod(false, 0.2, 1e-10);
   EXPECT_LT(coarse.energy, 1e-6);
   EXPECT_LT(fine.energy, coarse.energy);
-  EXPECT_LT(fine.momentum, 1e-9);
-  EXPECT_LT(fine.angular_momentum, 1e-9);
+  EXPECT_LT(fine.momentum, 2e-9);
+  EXPECT_LT(fine.angular_momentum, 2e-9);
   EXPECT_LT(fine.momentum, coarse.momentum);
   EXPECT_LT(fine.angular_momentum, coarse.angular_momentum);
 }
