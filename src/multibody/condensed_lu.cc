@@ -232,6 +232,37 @@ void CondensedLU<Number>::solve(const Number *a, Number *x) const
   if (rest > 0 && lead > 0) gemv(lead, rest, a + std::size_t(n_lead) * n, ld, x_rest, x); // x_Q = y_Q - C x_R
 }
 
+template <typename Number>
+bool NewtonLU<Number>::factorize(Number *a, const unsigned int n_, const unsigned int n_condensed)
+{
+  n = n_;
+  used_condensed = false;
+  if (n_condensed > 0)
+    switch (condensed_lu.factorize(a, n, n_condensed))
+      {
+        case CondensedResult::factored:
+          return used_condensed = true;
+        case CondensedResult::singular:
+          return false;
+        case CondensedResult::not_applicable:
+          break; // the whole matrix, unchanged, below
+      }
+  pivots.resize(n);
+  const int info = n > 0 ? getrf(n, a, n, pivots.data()) : 0;
+  if (info < 0) throw std::logic_error("LAPACK getrf: argument " + std::to_string(-info) + " is invalid");
+  return info == 0; // info > 0: an exactly zero pivot, the matrix is singular
+}
+
+template <typename Number>
+void NewtonLU<Number>::solve(const Number *a, Number *x) const
+{
+  if (used_condensed) return condensed_lu.solve(a, x);
+  const int info = n > 0 ? getrs(n, a, n, pivots.data(), x) : 0;
+  if (info != 0) throw std::runtime_error("LAPACK could not solve with the Jacobian (getrs status " + std::to_string(info) + ")");
+}
+
 template class CondensedLU<double>;
 template class CondensedLU<std::complex<double>>;
+template class NewtonLU<double>;
+template class NewtonLU<std::complex<double>>;
 } // namespace flextrack::multibody

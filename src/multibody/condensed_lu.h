@@ -12,7 +12,8 @@
 //
 // Where the block does not split so (a joint whose markers sit on one body, derivatives taken by
 // differences; a static solve with cj = 0, whose q-q block is singular), or a block's pivot is
-// poor, factorize() says so, leaves the matrix as it was, and the caller factorises it whole.
+// poor, factorize() says so, leaves the matrix as it was, and the caller factorises it whole
+// (NewtonLU below).
 //
 // Number is double (IDA's and generalised-alpha's Newton matrix, Radau IIA's real one) or
 // std::complex<double> (Radau IIA's complex Newton matrix J + (alpha - i beta) / h M).
@@ -55,5 +56,28 @@ private:
 
   /// x_Q = G_QQ^{-1} x_Q, the leading entries of each column of the n x @p columns array @p x.
   void solve_blocks(Number *x, unsigned int columns, unsigned int ld) const;
+};
+
+/// The dense LU of a Newton matrix as the integrators use it: condensed where CondensedLU
+/// applies, LAPACK's LU of the whole matrix (getrf) otherwise. One place for that choice, for
+/// JacobianSolver's dense path and Radau IIA's real and complex matrices.
+template <typename Number>
+class NewtonLU
+{
+public:
+  /// Factorises the column-major n x n matrix @p a in place, the first @p n_condensed unknowns
+  /// condensed out where their blocks allow (0: never); false if the matrix is singular.
+  bool factorize(Number *a, unsigned int n, unsigned int n_condensed);
+  /// x = A^{-1} x with the factors in @p a, after factorize() returned true.
+  void solve(const Number *a, Number *x) const;
+  /// Whether the last factorisation condensed, and the unknowns its LU then worked on.
+  bool condensed() const { return used_condensed; }
+  unsigned int complement_size() const { return condensed_lu.complement_size(); }
+
+private:
+  unsigned int n = 0;
+  bool used_condensed = false;
+  CondensedLU<Number> condensed_lu;
+  std::vector<int> pivots; ///< getrf's row swaps of the whole matrix
 };
 } // namespace flextrack::multibody

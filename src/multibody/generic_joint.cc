@@ -14,12 +14,8 @@ using namespace dealii;
 namespace
 {
 const char *axis_name[] = {"x", "y", "z"};
-}
-
-namespace
-{
 std::atomic<unsigned long long> next_workspace_id{1};
-}
+} // namespace
 
 GenericJoint::Local &GenericJoint::workspace() const
 {

@@ -112,8 +112,8 @@ private:
   std::unique_ptr<Marker> markers[2];
   std::vector<Row> rows;
   DriverKind driver;
+  std::shared_ptr<const geometry::Expression> law;
   /// Tells joints apart in workspace() (an address can be reused).
   unsigned long long id;
-  std::shared_ptr<const geometry::Expression> law;
 };
 } // namespace flextrack::multibody

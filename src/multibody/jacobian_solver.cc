@@ -1,6 +1,5 @@
 // Epetra matrix of the DAE Jacobian, factorised by KLU or LAPACK's dense LU (jacobian_solver.h).
 #include <multibody/jacobian_solver.h>
-#include <multibody/lapack.h>
 #include <multibody/system.h>
 
 #include <Epetra_CrsGraph.h>
@@ -96,10 +95,7 @@ JacobianSolver::JacobianSolver(const std::vector<std::vector<int>> &pattern, con
         }
     }
   if (dense)
-    {
-      dense_factors.resize(std::size_t(n) * n);
-      dense_pivots.resize(n);
-    }
+    dense_factors.resize(std::size_t(n) * n);
   else
     klu = std::make_unique<Klu>();
 }
@@ -214,24 +210,9 @@ void copy_to_dense(const Epetra_CrsMatrix &A, std::vector<double> &column_major)
 
 bool JacobianSolver::factorize_dense()
 {
-  const int n = map->NumMyElements();
-  used_condensed = false;
   copy_to_dense(*A, dense_factors);
-  if (n_condensed > 0)
-    switch (condensed.factorize(dense_factors.data(), n, n_condensed))
-      {
-        case CondensedResult::factored:
-          ++condensed_count;
-          return dense_factored = used_condensed = true;
-        case CondensedResult::singular:
-          return dense_factored = false;
-        case CondensedResult::not_applicable:
-          break; // the whole matrix, unchanged, below
-      }
-  int info = 0;
-  dgetrf_(&n, &n, dense_factors.data(), &n, dense_pivots.data(), &info);
-  if (info < 0) throw std::logic_error("LAPACK dgetrf: argument " + std::to_string(-info) + " is invalid");
-  dense_factored = info == 0; // info > 0: an exactly zero pivot, the matrix is singular
+  dense_factored = dense_lu.factorize(dense_factors.data(), map->NumMyElements(), n_condensed);
+  if (dense_factored && dense_lu.condensed()) ++condensed_count;
   return dense_factored;
 }
 
@@ -255,14 +236,6 @@ void JacobianSolver::solve(const double *b, double *x)
     }
   if (!dense_factored) throw std::runtime_error("the Jacobian was not factorised (singular) before a solve");
   if (x != b) std::memcpy(x, b, n * sizeof(double));
-  if (used_condensed)
-    {
-      condensed.solve(dense_factors.data(), x);
-      return;
-    }
-  const int one = 1;
-  int info = 0;
-  dgetrs_("N", &n, &one, dense_factors.data(), &n, dense_pivots.data(), x, &n, &info);
-  if (info != 0) throw std::runtime_error("LAPACK could not solve with the Jacobian (dgetrs status " + std::to_string(info) + ")");
+  dense_lu.solve(dense_factors.data(), x);
 }
 } // namespace flextrack::multibody

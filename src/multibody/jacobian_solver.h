@@ -68,7 +68,7 @@ public:
   unsigned long n_factorizations() const { return count; }
   /// How many of them condensed the positions out (CondensedLU), and its complement's size.
   unsigned long n_condensed_factorizations() const { return condensed_count; }
-  unsigned int condensed_size() const { return condensed.complement_size(); }
+  unsigned int condensed_size() const { return dense_lu.complement_size(); }
 
 private:
   std::unique_ptr<Epetra_SerialComm> comm;
@@ -76,13 +76,12 @@ private:
   std::unique_ptr<Epetra_CrsGraph> graph;
   std::unique_ptr<Epetra_CrsMatrix> A;
   unsigned long count = 0, condensed_count = 0;
-  // The dense path only: LAPACK's LU factors of A (column major, n x n) and its row swaps, or
-  // the factors with the first n_condensed unknowns condensed out (used_condensed).
-  bool dense_factored = false, used_condensed = false;
+  // The dense path only: the LU factors of A (column major, n x n), with the first n_condensed
+  // unknowns condensed out where NewtonLU can.
+  bool dense_factored = false;
   unsigned int n_condensed = 0;
-  CondensedLU<double> condensed;
+  NewtonLU<double> dense_lu;
   std::vector<double> dense_factors;
-  std::vector<int> dense_pivots;
   bool factorize_dense();
   /// The matrix's compressed rows in place: row starts, column indices, values.
   void compressed_rows(int *&row_start, int *&columns, double *&values) const;

@@ -1,6 +1,6 @@
-// LAPACK's LU with partial pivoting and its solve, real and complex (Debian's liblapack, which
-// deal.II links): the dense factorisations of the Jacobian (jacobian_solver.cc) and of Radau IIA's
-// Newton matrices (radau_iia.cc); BLAS' gemv for the condensed LU (condensed_lu.cc).
+// LAPACK's LU with partial pivoting and its solve, real and complex, and BLAS' gemv (Debian's
+// liblapack and libblas, which deal.II links): the dense factorisations of the Newton matrices
+// of IDA, generalised-alpha and Radau IIA (NewtonLU, condensed_lu.cc).
 #pragma once
 
 #include <complex>

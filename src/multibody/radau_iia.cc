@@ -2,7 +2,6 @@
 #include <multibody/radau_iia.h>
 
 #include <multibody/jacobian_solver.h>
-#include <multibody/lapack.h>
 
 #include <algorithm>
 #include <cmath>
@@ -195,12 +194,8 @@ bool RadauIntegrator::evaluate_jacobian(const double t, const State &y0, const S
 
 bool RadauIntegrator::factorize(const double h)
 {
-  const int size = n;
-  int info = 0;
   E1.resize(J.size());
   E2.resize(J.size());
-  pivots1.resize(n);
-  pivots2.resize(n);
   const double g = rc.gamma / h;
   const std::complex<double> z(rc.alpha / h, -rc.beta / h);
   for (std::size_t k = 0; k < J.size(); ++k)
@@ -213,35 +208,10 @@ bool RadauIntegrator::factorize(const double h)
   // The positions condensed out first where their blocks are uncoupled (condensed_lu.h): the
   // q rows of E are gamma / h I - d(T v)/dq, as in IDA's Newton matrix.
   const unsigned int nq = system.n_q();
-  const CondensedResult r1 = lu1.factorize(E1.data(), n, nq);
-  if (r1 == CondensedResult::singular) return false;
-  condensed1 = r1 == CondensedResult::factored;
-  if (!condensed1) dgetrf_(&size, &size, E1.data(), &size, pivots1.data(), &info);
-  if (info != 0) return false;
-  const CondensedResult r2 = lu2.factorize(E2.data(), n, nq);
-  if (r2 == CondensedResult::singular) return false;
-  condensed2 = r2 == CondensedResult::factored;
-  if (!condensed2) zgetrf_(&size, &size, E2.data(), &size, pivots2.data(), &info);
-  if (info != 0) return false;
-  if (condensed1 && condensed2) ++stats.condensed_factorizations, stats.condensed_unknowns = lu1.complement_size();
+  if (!lu1.factorize(E1.data(), n, nq) || !lu2.factorize(E2.data(), n, nq)) return false;
+  if (lu1.condensed() && lu2.condensed()) ++stats.condensed_factorizations, stats.condensed_unknowns = lu1.complement_size();
   factored_h = h;
   return true;
-}
-
-void RadauIntegrator::solve_real(double *x) const
-{
-  if (condensed1) return lu1.solve(E1.data(), x);
-  const int size = n, one = 1;
-  int info = 0;
-  dgetrs_("N", &size, &one, E1.data(), &size, pivots1.data(), x, &size, &info);
-}
-
-void RadauIntegrator::solve_complex(std::complex<double> *x) const
-{
-  if (condensed2) return lu2.solve(E2.data(), x);
-  const int size = n, one = 1;
-  int info = 0;
-  zgetrs_("N", &size, &one, E2.data(), &size, pivots2.data(), x, &size, &info);
 }
 
 RadauIntegrator::Outcome RadauIntegrator::newton(const double h, std::vector<State> &Z, double &theta,
@@ -292,8 +262,8 @@ RadauIntegrator::Outcome RadauIntegrator::newton(const double h, std::vector<Sta
           dW23[l] = -std::complex<double>(Ti[1][0] * F[0][l] + Ti[1][1] * F[1][l] + Ti[1][2] * F[2][l],
                                           Ti[2][0] * F[0][l] + Ti[2][1] * F[1][l] + Ti[2][2] * F[2][l]);
         }
-      solve_real(dW1.data());
-      solve_complex(dW23.data());
+      lu1.solve(E1.data(), dW1.data());
+      lu2.solve(E2.data(), dW23.data());
       for (unsigned int l = 0; l < n; ++l) re[l] = dW23[l].real(), im[l] = dW23[l].imag();
       const double a = weighted_norm(dW1.data()), b = weighted_norm(re.data()), c = weighted_norm(im.data());
       const double norm = std::sqrt((a * a + b * b + c * c) / 3);
@@ -336,7 +306,7 @@ double RadauIntegrator::local_error(const double h, const std::vector<State> &Z,
       rhs[l] = sum;
     }
   e = rhs;
-  solve_real(e.data());
+  lu1.solve(E1.data(), e.data());
   for (unsigned int l = 0; l < n; ++l)
     if (differential[l] == 0) e[l] = 0;
   double err = weighted_norm(e.data());
@@ -350,7 +320,7 @@ double RadauIntegrator::local_error(const double h, const std::vector<State> &Z,
           system.residual(t_now, shifted, yp, F1);
           stats.residual_evaluations += 2;
           for (unsigned int l = 0; l < n; ++l) e[l] = rhs[l] - (F1[l] - F0[l]);
-          solve_real(e.data());
+          lu1.solve(E1.data(), e.data());
           for (unsigned int l = 0; l < n; ++l)
             if (differential[l] == 0) e[l] = 0;
           err = weighted_norm(e.data());

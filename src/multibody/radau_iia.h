@@ -93,17 +93,12 @@ private:
   /// is refined, and a rejection cuts it by 10 (RADAU5's first step).
   bool restart = true;
 
-  // Newton's matrices and their factors (column major): LAPACK's LU of each whole, or with the
-  // positions condensed out (condensed_lu.h) where condensed1 / condensed2 say so.
+  // Newton's matrices and their LU factors in place (column major), the positions condensed out
+  // where they allow (condensed_lu.h).
   std::vector<double> J, M, E1;
   std::vector<std::complex<double>> E2;
-  std::vector<int> pivots1, pivots2;
-  CondensedLU<double> lu1;
-  CondensedLU<std::complex<double>> lu2;
-  bool condensed1 = false, condensed2 = false;
-  /// x = E1^{-1} x and x = E2^{-1} x with the factors of factorize().
-  void solve_real(double *x) const;
-  void solve_complex(std::complex<double> *x) const;
+  NewtonLU<double> lu1;
+  NewtonLU<std::complex<double>> lu2;
   bool have_jacobian = false;  ///< J, M usable (kept over steps while Newton contracts fast)
   bool jacobian_fresh = false; ///< J, M taken at the current step's start
   double factored_h = -1;        ///< h of E1, E2; < 0: none

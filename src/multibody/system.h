@@ -146,7 +146,7 @@ public:
   /// the order of the local error / h in a step, so the term is negligible beside cj I in the same
   /// rows; without it the position rows' block cj I - d(T v)/dq splits by body frame and
   /// coordinate, and the dense LU condenses the positions out (condensed_lu.h: the laser robot's
-  /// LU of 170 unknowns becomes one of 102). Set by the time integrators; the exact Jacobian
+  /// LU of 170 unknowns becomes one of 104). Set by the time integrators; the exact Jacobian
   /// (default) is for linearisation, static stiffness and the tests.
   void use_newton_matrix(bool newton) { newton_matrix = newton; }
 

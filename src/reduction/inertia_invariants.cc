@@ -51,7 +51,6 @@ FloatingFrameInertia::FloatingFrameInertia(const InertiaInvariants &invariants, 
 
 namespace
 {
-/// sum_j row[j] x[j], j < n.
 /// y = R x for the row-major (rows x n) array @p R: BLAS' dgemv on its column-major transpose.
 /// A 32-mode body's eta sums (12 n^2 products per residual) were 8 % of the laser robot's
 /// instructions as scalar dot products, which the compiler may not vectorise (it may not reorder
