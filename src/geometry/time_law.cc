@@ -19,26 +19,38 @@ namespace
 constexpr int grid_intervals = 2000;
 constexpr int zoom_levels = 6, zoom_points = 50;
 
+/// Which derivative of a law was the largest or not finite, and its value: put into words only
+/// for a message (number_text for every one of the 2300 samples was most of the check's cost).
+struct Derivative
+{
+  int order = 0;
+  double value = 0;
+  std::string text() const
+  {
+    static const char *names[] = {"value", "first derivative", "second derivative"};
+    return std::string(names[order]) + " " + number_text(value);
+  }
+};
+
 /// The largest of |f|, |f'| T and |f''| T^2 at @p t (the derivatives scaled by the span T to the
-/// law's own unit), or NaN if any is not finite; @p what names the one that is largest or bad.
-double size_at(const Expression &law, const double t, const double span, const int derivatives, std::string &what)
+/// law's own unit), or NaN if any is not finite; @p what is the one that is largest or bad.
+double size_at(const Expression &law, const double t, const double span, const int derivatives, Derivative &what)
 {
   const Jet j = law.jet(t);
-  static const char *names[] = {"value", "first derivative", "second derivative"};
   double largest = 0;
   for (int k = 0; k <= derivatives; ++k)
     {
       const double d = j.derivative(k);
       if (!std::isfinite(d))
         {
-          what = std::string(names[k]) + " " + number_text(d);
+          what = {k, d};
           return std::numeric_limits<double>::quiet_NaN();
         }
       const double scaled = std::abs(d) * std::pow(span, k);
       if (scaled >= largest)
         {
           largest = scaled;
-          what = std::string(names[k]) + " " + number_text(d);
+          what = {k, d};
         }
     }
   return largest;
@@ -55,13 +67,13 @@ void check_time_law(const Expression &law, const TimeWindow &window, const int d
   for (int i = 0; i <= grid_intervals; ++i)
     {
       const double t = i == grid_intervals ? window.end : t0 + span * i / grid_intervals;
-      std::string what;
+      Derivative what;
       size[i] = size_at(law, t, span, derivatives, what);
       if (std::isnan(size[i]))
-        throw ExpressionError(text + " is not finite at t = " + number_text(t) + " s (" + what +
+        throw ExpressionError(text + " is not finite at t = " + number_text(t) + " s (" + what.text() +
                               "): a law of time must be defined over the whole run, from the start time to the end time");
       if (size[i] > max_law_magnitude && too_large.empty())
-        too_large = text + " reaches " + what + " at t = " + number_text(t) + " s: beyond " + number_text(max_law_magnitude) +
+        too_large = text + " reaches " + what.text() + " at t = " + number_text(t) + " s: beyond " + number_text(max_law_magnitude) +
                     " (SI units; derivatives times the run's duration); no machine needs it";
     }
   // A pole between grid points: zoom in on the largest value.
@@ -75,10 +87,10 @@ void check_time_law(const Expression &law, const TimeWindow &window, const int d
       for (int i = 0; i <= zoom_points; ++i)
         {
           const double t = a + (b - a) * i / zoom_points;
-          std::string what;
+          Derivative what;
           const double s = size_at(law, t, span, derivatives, what);
           if (std::isnan(s)) // the pole itself
-            throw ExpressionError(text + " has a pole at t = " + number_text(t) + " s (" + what +
+            throw ExpressionError(text + " has a pole at t = " + number_text(t) + " s (" + what.text() +
                                   "): a law of time must be bounded over the whole run");
           if (s > best) best = s, t_best = t;
         }

@@ -1,6 +1,7 @@
 // SUNDIALS IDA on the system's DAE, with our Jacobian and KLU solver (ida_integrator.h).
 #include <base/text.h>
 #include <multibody/ida_integrator.h>
+#include <multibody/serial_vector_ops.h>
 
 #include <ida/ida.h>
 #include <ida/ida_ls.h>
@@ -202,6 +203,8 @@ void IdaIntegrator::initialize(const double t0, const State &y, const State &yp)
   sun->y = N_VNew_Serial(n, sun->context);
   sun->yp = N_VNew_Serial(n, sun->context);
   sun->id = N_VNew_Serial(n, sun->context);
+  // Before IDAInit, which clones its working vectors from y (serial_vector_ops.h).
+  for (N_Vector v : {sun->y, sun->yp, sun->id}) install_compiled_ops(v);
   from_vector(y, sun->y);
   from_vector(yp, sun->yp);
   Vector<double> id;
