@@ -218,6 +218,71 @@ void GenericJoint::evaluate(const std::vector<const double *> &q, const double *
     if (rows[r].kind == RowKind::own) e.B_own(r, rows[r].a) = 1;
 }
 
+void GenericJoint::residual_terms(const std::vector<const double *> &q, const double *own_q, const double t,
+                                  const std::vector<const double *> &v, const double *own_v, const double *lambda,
+                                  const double *mu, JointResidualTerms &r) const
+{
+  Local &l = workspace();
+  evaluate_rows(q, own_q, t, l, r.phi, r.rate); // rate = Phi_t so far
+  const bool forces = lambda && mu;
+  unsigned int n_columns = n_own_coordinates();
+  for (const auto &marker : markers) n_columns += marker->body().n_v();
+  r.force_lambda.assign(forces ? n_columns : 0, 0.0);
+  r.force_mu.assign(forces ? n_columns : 0, 0.0);
+  // Column of a marker's first own coordinate: after both bodies' velocities.
+  unsigned int body_column = 0, own_column = markers[0]->body().n_v() + markers[1]->body().n_v();
+  for (unsigned int m = 0; m < 2; ++m)
+    {
+      const MarkerKinematics &k = l.k[m];
+      const unsigned int nv = markers[m]->body().n_v(), n_own = markers[m]->n_own_coordinates();
+      const double *own_rate = n_own ? own_of(m, own_v) : nullptr;
+      // The marker's four vectors (position, three axes): their Jacobians, their rates J x', and
+      // the sums of the row gradients weighted by lambda and by mu.
+      const FullMatrix<double> *J[4] = {&k.J_position, &k.J_axes[0], &k.J_axes[1], &k.J_axes[2]};
+      std::array<Vector3, 4> rate, weight_lambda, weight_mu;
+      for (unsigned int x = 0; x < 4; ++x)
+        {
+          if (forces)
+            for (unsigned int row = 0; row < rows.size(); ++row)
+              {
+                weight_lambda[x] += lambda[row] * l.grad[row][4 * m + x];
+                weight_mu[x] += mu[row] * l.grad[row][4 * m + x];
+              }
+          for (unsigned int c = 0; c < nv + n_own; ++c)
+            {
+              const double x_rate = c < nv ? v[m][c] : own_rate[c - nv];
+              const unsigned int column = c < nv ? body_column + c : own_column + c - nv;
+              for (unsigned int a = 0; a < 3; ++a)
+                {
+                  const double Jac = (*J[x])(a, c);
+                  rate[x][a] += Jac * x_rate;
+                  if (forces)
+                    {
+                      r.force_lambda[column] += weight_lambda[x][a] * Jac;
+                      r.force_mu[column] += weight_mu[x][a] * Jac;
+                    }
+                }
+            }
+        }
+      for (unsigned int row = 0; row < rows.size(); ++row)
+        for (unsigned int x = 0; x < 4; ++x) r.rate[row] += l.grad[row][4 * m + x] * rate[x];
+      body_column += nv;
+      own_column += n_own;
+    }
+  // A driven own coordinate's row: B_own = 1 in its column (evaluate), no marker gradient.
+  const unsigned int first_own = markers[0]->body().n_v() + markers[1]->body().n_v();
+  for (unsigned int row = 0; row < rows.size(); ++row)
+    if (rows[row].kind == RowKind::own)
+      {
+        r.rate[row] += own_v[rows[row].a];
+        if (forces)
+          {
+            r.force_lambda[first_own + rows[row].a] += lambda[row];
+            r.force_mu[first_own + rows[row].a] += mu[row];
+          }
+      }
+}
+
 void GenericJoint::reaction(const std::vector<const double *> &q, const double *own_q, const double t,
                             const double *lambda, Vector3 &force, Vector3 &torque) const
 {

@@ -44,6 +44,11 @@ public:
   void initial_own_coordinates(double *q, double *v) const override;
   std::vector<const Body *> bodies() const override { return {&markers[0]->body(), &markers[1]->body()}; }
   void evaluate(const std::vector<const double *> &q, const double *own_q, double t, JointEvaluation &e) const override;
+  /// From the markers' Jacobians J directly: B v = sum of the row gradients times J v, and
+  /// B^T w = J^T (sum_r w_r times the row gradients), with no equations x velocities product.
+  void residual_terms(const std::vector<const double *> &q, const double *own_q, double t,
+                      const std::vector<const double *> &v, const double *own_v, const double *lambda,
+                      const double *mu, JointResidualTerms &r) const override;
   /// Analytic where a marker has a body-fixed form (a point and frame on a body or at an
   /// interface); a track contact's own second derivatives by differences of that marker alone.
   /// False for two markers on one body.

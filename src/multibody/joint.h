@@ -29,6 +29,17 @@ struct JointEvaluation
   dealii::FullMatrix<double> B_own;            ///< m x n_own_coordinates()
 };
 
+/// A joint's terms of the DAE residual (System::joint_residual), without B itself: forming B
+/// (equations x velocities) cost more than all the products taken with it.
+struct JointResidualTerms
+{
+  dealii::Vector<double> phi;  ///< Phi, all m equations [m or -]
+  dealii::Vector<double> rate; ///< B v + Phi_t, all m equations [m/s or 1/s]
+  /// B^T lambda and B^T mu: the velocity coordinates of the bodies of bodies() in order, then the
+  /// joint's own coordinates. Empty where no multipliers were given.
+  std::vector<double> force_lambda, force_mu;
+};
+
 /// Second derivatives of a joint, for the DAE Jacobian (system_jacobian.cc). Rows run over the
 /// velocity coordinates v of the bodies of bodies() in order (the ground has none), then the
 /// joint's own coordinates; columns over their position coordinates q = (R, p, eta), then the
@@ -61,6 +72,12 @@ public:
   /// @p q: coordinates of each body of bodies() (nullptr for the ground).
   virtual void evaluate(const std::vector<const double *> &q, const double *own_q, double t,
                         JointEvaluation &e) const = 0;
+  /// Phi, B v + Phi_t and, if @p lambda and @p mu are given (all m equations; dropped ones
+  /// zero), B^T lambda and B^T mu (JointResidualTerms). @p v: velocities of each body of bodies()
+  /// (nullptr for the ground); @p own_v: the own coordinates' rates.
+  virtual void residual_terms(const std::vector<const double *> &q, const double *own_q, double t,
+                              const std::vector<const double *> &v, const double *own_v, const double *lambda,
+                              const double *mu, JointResidualTerms &r) const = 0;
   /// Second derivatives (JointDerivatives) for multipliers @p lambda and @p mu (all m equations;
   /// dropped ones zero), body velocities @p v (per body of bodies(), nullptr for the ground) and
   /// own velocities @p own_v. Returns false where the joint has none (the system then takes

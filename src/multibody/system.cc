@@ -281,24 +281,49 @@ void System::joint_residual(const unsigned int j, const double t, const Vector<d
                             std::vector<double> &out) const
 {
   const JointSlot &s = joints[j];
-  const unsigned int n_own = s.joint->n_own_coordinates(), m = s.active.size();
+  const unsigned int n_own = s.joint->n_own_coordinates(), m = s.active.size(), n = s.joint->n_equations();
   const ElementIndices &ind = joint_elements[j];
   unsigned int n_q_cols = n_own, n_v_cols = n_own;
   for (const unsigned int b : s.body_index) n_q_cols += bodies[b].body->n_q(), n_v_cols += bodies[b].body->n_v();
   out.assign(ind.rows.size(), 0.0);
-  // Reused between calls, as GenericJoint::evaluate's workspace (the storage of B, Phi_q), one
-  // per joint: shared by the joints, each would resize the other joints' matrices (a ground
-  // marker's n x 0 block frees the storage, which the next joint allocates again).
-  thread_local std::vector<JointEvaluation> evaluations;
-  thread_local std::vector<FullMatrix<double>> position_jacobians;
-  if (evaluations.size() <= j) evaluations.resize(j + 1), position_jacobians.resize(j + 1);
-  JointEvaluation &e = evaluations[j];
-  FullMatrix<double> &Phi_q = position_jacobians[j];
-  s.joint->evaluate(joint_q(j, y), n_own ? (y.begin() + (s.own_q)) : nullptr, t, e);
-  joint_position_jacobian(j, y, e, Phi_q);
-  const double *lambda = (y.begin() + (nq + nv + s.multiplier)), *mu = (y.begin() + (nq + nv + nlambda + s.multiplier));
-  for (unsigned int c = 0; c < n_q_cols; ++c) // Phi_q^T mu
-    for (unsigned int r = 0; r < m; ++r) out[c] += Phi_q(r, c) * mu[r];
+  // Reused between calls, one per joint (as GenericJoint's workspace): shared by the joints,
+  // each would resize the others' storage.
+  thread_local std::vector<JointResidualTerms> all_terms;
+  thread_local std::vector<double> lambda, mu; // all n equations, the dropped ones zero
+  thread_local std::vector<const double *> v;
+  if (all_terms.size() <= j) all_terms.resize(j + 1);
+  JointResidualTerms &terms = all_terms[j];
+  lambda.assign(n, 0.0);
+  mu.assign(n, 0.0);
+  for (unsigned int r = 0; r < m; ++r)
+    {
+      lambda[s.active[r]] = y[nq + nv + s.multiplier + r];
+      mu[s.active[r]] = y[nq + nv + nlambda + s.multiplier + r];
+    }
+  v.clear();
+  for (const unsigned int b : s.body_index) v.push_back(v_of(b, y));
+  s.joint->residual_terms(joint_q(j, y), n_own ? (y.begin() + s.own_q) : nullptr, t, v,
+                          n_own ? (y.begin() + (nq + s.own_v)) : nullptr, lambda.data(), mu.data(), terms);
+  // Phi_q^T mu = T^+T B^T mu (Phi_q = B T^+): the R and eta entries are B^T mu's, the p entries
+  // 2 G(p)^T (B_omega^T mu) / |p|^2.
+  const std::vector<double> &force_mu = terms.force_mu;
+  unsigned int q_col = 0, v_col = 0;
+  for (const unsigned int b : s.body_index)
+    {
+      const BodySlot &bs = bodies[b];
+      if (bs.body->is_ground()) continue;
+      const double *q = (y.begin() + (bs.q));
+      const auto G = geometry::body_velocity_matrix({{q[3], q[4], q[5], q[6]}});
+      const double p2 = q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6];
+      for (unsigned int a = 0; a < 3; ++a) out[q_col + a] += force_mu[v_col + a];
+      for (unsigned int i = 0; i < 4; ++i)
+        out[q_col + 3 + i] +=
+          2 / p2 * (force_mu[v_col + 3] * G[0][i] + force_mu[v_col + 4] * G[1][i] + force_mu[v_col + 5] * G[2][i]);
+      for (unsigned int i = 0; i < bs.body->n_modes(); ++i) out[q_col + 7 + i] += force_mu[v_col + 6 + i];
+      q_col += bs.body->n_q();
+      v_col += bs.body->n_v();
+    }
+  for (unsigned int i = 0; i < n_own; ++i) out[q_col + i] += force_mu[v_col + i];
   for (unsigned int i = 0; i < n_own; ++i) out[n_q_cols - n_own + i] += yp[s.own_q + i] - y[nq + s.own_v + i];
   if (n_own) // - Q_own in the own velocity rows
     {
@@ -307,25 +332,11 @@ void System::joint_residual(const unsigned int j, const double t, const Vector<d
       for (unsigned int i = 0; i < n_own; ++i) out[n_q_cols + n_v_cols - n_own + i] -= applied[i] + dissipative[i];
     }
   // B^T lambda into the v rows, B v + Phi_t, Phi
-  unsigned int col = 0;
-  std::vector<double> Bv(m, 0.0);
-  for (unsigned int b = 0; b <= s.body_index.size(); ++b)
-    {
-      const bool own = b == s.body_index.size();
-      const FullMatrix<double> &B = own ? e.B_own : e.B[b];
-      const double *v = own ? (n_own ? (y.begin() + (nq + s.own_v)) : nullptr) : v_of(s.body_index[b], y);
-      for (unsigned int c = 0; c < B.n(); ++c)
-        for (unsigned int r = 0; r < m; ++r)
-          {
-            out[n_q_cols + col + c] += B(s.active[r], c) * lambda[r];
-            Bv[r] += B(s.active[r], c) * v[c];
-          }
-      col += B.n();
-    }
+  for (unsigned int c = 0; c < n_v_cols; ++c) out[n_q_cols + c] += terms.force_lambda[c];
   for (unsigned int r = 0; r < m; ++r)
     {
-      out[n_q_cols + n_v_cols + r] = Bv[r] + e.phi_t[s.active[r]];
-      out[n_q_cols + n_v_cols + m + r] = e.phi[s.active[r]];
+      out[n_q_cols + n_v_cols + r] = terms.rate[s.active[r]];
+      out[n_q_cols + n_v_cols + m + r] = terms.phi[s.active[r]];
     }
   for (unsigned int i = 0; i < n_own; ++i) // held at an end stop: v = 0 instead of the force balance
     if (velocity_held(s.own_v + i)) out[n_q_cols + n_v_cols - n_own + i] = y[nq + s.own_v + i];

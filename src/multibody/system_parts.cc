@@ -215,22 +215,20 @@ void System::constraint_residuals(const double t, const Vector<double> &y, doubl
   const auto keep_largest = [](double &largest, const double x) { // a NaN stays
     if (!std::isnan(largest) && !(std::abs(x) <= largest)) largest = std::abs(x);
   };
-  thread_local JointEvaluation e; // keeps its storage between calls
+  thread_local JointResidualTerms terms; // keeps its storage between calls
+  thread_local std::vector<const double *> v;
   for (unsigned int j = 0; j < joints.size(); ++j)
     {
       const JointSlot &s = joints[j];
-      s.joint->evaluate(joint_q(j, y), s.joint->n_own_coordinates() ? (y.begin() + (s.own_q)) : nullptr, t, e);
+      const bool own = s.joint->n_own_coordinates();
+      v.clear();
+      for (const unsigned int b : s.body_index) v.push_back(v_of(b, y));
+      s.joint->residual_terms(joint_q(j, y), own ? (y.begin() + s.own_q) : nullptr, t, v,
+                              own ? (y.begin() + (nq + s.own_v)) : nullptr, nullptr, nullptr, terms);
       for (unsigned int k = 0; k < s.joint->n_equations(); ++k)
         {
-          double rate = e.phi_t[k];
-          for (unsigned int m = 0; m < s.body_index.size(); ++m)
-            {
-              const double *v = y.begin() + nq + bodies[s.body_index[m]].v;
-              for (unsigned int c = 0; c < e.B[m].n(); ++c) rate += e.B[m](k, c) * v[c];
-            }
-          for (unsigned int c = 0; c < e.B_own.n(); ++c) rate += e.B_own(k, c) * y[nq + s.own_v + c];
-          keep_largest(position, e.phi[k]);
-          keep_largest(velocity, rate);
+          keep_largest(position, terms.phi[k]);
+          keep_largest(velocity, terms.rate[k]);
         }
     }
 }

@@ -143,11 +143,19 @@ struct Deviation
   double lambda = 0, mu = 0, rate = 0, column = 0;
 };
 
-Deviation compare(const Joint &joint, const unsigned int seed, const double t)
+/// Random states of a joint's bodies (Euler parameters off the unit sphere), its own
+/// coordinates (the last entry) and random multipliers.
+struct RandomJointState
+{
+  std::vector<BodyState> state;
+  std::vector<double> lambda, mu;
+};
+
+RandomJointState random_state(const Joint &joint, const unsigned int seed)
 {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<BodyState> state;
+  RandomJointState r;
   for (const Body *b : joint.bodies())
     {
       BodyState s;
@@ -159,15 +167,24 @@ Deviation compare(const Joint &joint, const unsigned int seed, const double t)
           for (unsigned int i = 7; i < b->n_q(); ++i) s.q[i] = 0.05 * u(rng);
           for (unsigned int i = 0; i < b->n_v(); ++i) s.v[i] = 2 * u(rng);
         }
-      state.push_back(s);
+      r.state.push_back(s);
     }
   BodyState own; // arc lengths within the arm (0.6 m long), sliding speeds
   for (unsigned int i = 0; i < joint.n_own_coordinates(); ++i)
     own.q.push_back(0.3 + 0.15 * u(rng)), own.v.push_back(u(rng));
-  state.push_back(own);
+  r.state.push_back(own);
   const unsigned int m = joint.n_equations();
-  std::vector<double> lambda(m), mu(m);
-  for (unsigned int r = 0; r < m; ++r) lambda[r] = 10 * u(rng), mu[r] = 10 * u(rng);
+  r.lambda.resize(m), r.mu.resize(m);
+  for (unsigned int k = 0; k < m; ++k) r.lambda[k] = 10 * u(rng), r.mu[k] = 10 * u(rng);
+  return r;
+}
+
+Deviation compare(const Joint &joint, const unsigned int seed, const double t)
+{
+  RandomJointState random = random_state(joint, seed);
+  std::vector<BodyState> &state = random.state;
+  const BodyState &own = state.back();
+  const std::vector<double> &lambda = random.lambda, &mu = random.mu;
 
   std::vector<const double *> q, v;
   for (unsigned int b = 0; b + 1 < state.size(); ++b)
@@ -233,6 +250,48 @@ TEST(MultibodyJointDerivatives, generic_joints_match_central_differences_per_kin
         EXPECT_LT(d.lambda, 1e-7) << cases[j].kind;
         EXPECT_LT(d.mu, 1e-7) << cases[j].kind;
         EXPECT_LT(d.rate, 1e-7) << cases[j].kind;
+      }
+}
+
+// Joint::residual_terms (what the DAE residual takes of a joint, computed from the markers'
+// Jacobians without forming B) against the products with B itself (Joint::evaluate): equal to
+// round-off, 1e-13 of the largest entry (sums of a few tens of terms of size 1-100).
+TEST(MultibodyJointDerivatives, residual_terms_equal_the_products_with_B_per_kind)
+{
+  System s(Vector3({0, 0, -9.81}));
+  build(s);
+  for (unsigned int j = 0; j < s.n_joints(); ++j)
+    for (const unsigned int seed : {1u, 2u})
+      {
+        const Joint &joint = s.joint(j);
+        const RandomJointState random = random_state(joint, 10 * j + seed);
+        const auto &state = random.state;
+        std::vector<double> B_lambda, B_mu, rate;
+        joint_terms(joint, state, 0.7, random.lambda, B_lambda, rate);
+        joint_terms(joint, state, 0.7, random.mu, B_mu, rate);
+        std::vector<const double *> q, v;
+        for (unsigned int b = 0; b + 1 < state.size(); ++b)
+          q.push_back(state[b].q.empty() ? nullptr : state[b].q.data()),
+            v.push_back(state[b].v.empty() ? nullptr : state[b].v.data());
+        const bool own = !state.back().q.empty();
+        JointResidualTerms terms;
+        joint.residual_terms(q, own ? state.back().q.data() : nullptr, 0.7, v, own ? state.back().v.data() : nullptr,
+                             random.lambda.data(), random.mu.data(), terms);
+        JointEvaluation e;
+        joint.evaluate(q, own ? state.back().q.data() : nullptr, 0.7, e);
+        const auto relative = [](const std::vector<double> &a, const std::vector<double> &b) {
+          double worst = 0, largest = 0;
+          for (unsigned int i = 0; i < a.size(); ++i)
+            worst = std::max(worst, std::abs(a[i] - b[i])), largest = std::max(largest, std::abs(b[i]));
+          return worst / largest;
+        };
+        ASSERT_EQ(terms.force_lambda.size(), B_lambda.size()) << cases[j].kind;
+        EXPECT_LT(relative(terms.force_lambda, B_lambda), 1e-13) << cases[j].kind << ": B^T lambda";
+        EXPECT_LT(relative(terms.force_mu, B_mu), 1e-13) << cases[j].kind << ": B^T mu";
+        EXPECT_LT(relative(std::vector<double>(terms.rate.begin(), terms.rate.end()), rate), 1e-13)
+          << cases[j].kind << ": B v + Phi_t";
+        EXPECT_EQ(std::vector<double>(terms.phi.begin(), terms.phi.end()), std::vector<double>(e.phi.begin(), e.phi.end()))
+          << cases[j].kind << ": Phi";
       }
 }
 
