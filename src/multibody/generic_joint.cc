@@ -2,6 +2,7 @@
 // and the chain rule through the marker Jacobians (see generic_joint.h).
 #include <base/input_error.h>
 #include <multibody/generic_joint.h>
+#include <multibody/lapack.h>
 
 #include <algorithm>
 #include <array>
@@ -242,6 +243,12 @@ void GenericJoint::residual_terms(const std::vector<const double *> &q, const do
       std::array<Vector3, 4> rate, weight_lambda, weight_mu;
       for (unsigned int x = 0; x < 4; ++x)
         {
+          // A vector no row depends on (the follower's axes in a translation row, ...) is skipped.
+          if (std::none_of(l.grad.begin(), l.grad.end(), [&](const Gradient &g) {
+                const Vector3 &w = g[4 * m + x];
+                return w[0] != 0 || w[1] != 0 || w[2] != 0;
+              }))
+            continue;
           if (forces)
             for (unsigned int row = 0; row < rows.size(); ++row)
               {
@@ -521,23 +528,44 @@ bool GenericJoint::derivatives(const std::vector<const double *> &q, const doubl
         row_hessian(r, angle, terms);
         for (const HessianTerm &h : terms) W[h.a][h.b] += w[r] * h.c;
       }
-    for (unsigned int a = 0; a < 8; ++a)
+    // sum_ab W_ab J_a^T Y_b, marker side by marker side: Z = sum_b W_ab Y_b (the 4 x 3 rows of
+    // side A's vectors, B's columns), then J_A^T Z in one product of inner size 12. Taken pair
+    // by pair (a, b), the same sum was some 16 rank-3 updates per side pair, the most costly
+    // part of a joint's Jacobian.
+    thread_local std::vector<double> JA, Z, block;
+    for (unsigned int A = 0; A < 2; ++A)
       {
-        const Side &Sa = side[a / 4];
-        const unsigned int na = Sa.nv + Sa.n_own;
+        const Side &Sa = side[A];
+        const int na = Sa.nv + Sa.n_own;
         if (na == 0) continue;
-        const FullMatrix<double> &J = *Sa.J[a % 4];
-        for (unsigned int b = 0; b < 8; ++b) // W_ab J_a^T Y_b
+        JA.resize(std::size_t(na) * 12); // na x 12, column-major: (i, 3 x + c) = J_x(c, i)
+        for (unsigned int x = 0; x < 4; ++x)
+          for (unsigned int c = 0; c < 3; ++c)
+            for (int i = 0; i < na; ++i) JA[i + std::size_t(na) * (3 * x + c)] = (*Sa.J[x])(c, i);
+        for (unsigned int B = 0; B < 2; ++B)
           {
-            const Side &Sb = side[b / 4];
-            if (W[a][b] == 0 || Sb.nq + Sb.n_own == 0) continue;
-            const FullMatrix<double> &Y = Sb.Y[b % 4];
-            for (unsigned int i = 0; i < na; ++i)
-              for (unsigned int k = 0; k < Sb.nq + Sb.n_own; ++k)
-                D(v_row(Sa, i), q_column(Sb, k)) += W[a][b] * (J(0, i) * Y(0, k) + J(1, i) * Y(1, k) + J(2, i) * Y(2, k));
+            const Side &Sb = side[B];
+            const int nc = Sb.nq + Sb.n_own;
+            bool coupled = false;
+            for (unsigned int x = 0; x < 4; ++x)
+              for (unsigned int z = 0; z < 4; ++z) coupled = coupled || W[4 * A + x][4 * B + z] != 0;
+            if (nc == 0 || !coupled) continue;
+            Z.assign(std::size_t(12) * nc, 0.0); // 12 x nc, column-major
+            for (unsigned int x = 0; x < 4; ++x)
+              for (unsigned int z = 0; z < 4; ++z)
+                if (const double w_xz = W[4 * A + x][4 * B + z]; w_xz != 0)
+                  for (int k = 0; k < nc; ++k)
+                    for (unsigned int c = 0; c < 3; ++c) Z[3 * x + c + 12 * std::size_t(k)] += w_xz * Sb.Y[z](c, k);
+            block.resize(std::size_t(na) * nc);
+            const int twelve = 12;
+            const double one = 1, zero = 0;
+            dgemm_("N", "N", &na, &nc, &twelve, &one, JA.data(), &na, Z.data(), &twelve, &zero, block.data(), &na);
+            for (int k = 0; k < nc; ++k)
+              for (int i = 0; i < na; ++i) D(v_row(Sa, i), q_column(Sb, k)) += block[i + std::size_t(na) * k];
           }
         // H_a(w_a) in closed form; a marker without one had it added with its differences
-        if (Sa.form && w_a[a].norm_square() != 0) Sa.fixed.add_H(a % 4, w_a[a], D, Sa.v0, Sa.q0);
+        for (unsigned int x = 0; x < 4; ++x)
+          if (Sa.form && w_a[4 * A + x].norm_square() != 0) Sa.fixed.add_H(x, w_a[4 * A + x], D, Sa.v0, Sa.q0);
       }
   };
   weighted(lambda, w_lambda, d.lambda_q);
