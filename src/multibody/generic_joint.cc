@@ -157,13 +157,13 @@ void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const dou
 void GenericJoint::driver_rates(const std::vector<const double *> &q, const double *own_q, const double t,
                                 Vector<double> &phi_t) const
 {
+  // The angle row's Phi_t needs both markers' axes (their Jacobians are not needed).
   const bool angle = std::any_of(rows.begin(), rows.end(), [](const Row &r) { return r.kind == RowKind::angle; });
+  std::array<Vector3, 3> ei, ej;
   if (angle)
     {
-      // The angle row's Phi_t needs both markers' axes: evaluate the rows as a whole.
-      thread_local Vector<double> phi;
-      evaluate_rows(q, own_q, t, workspace(), phi, phi_t);
-      return;
+      markers[0]->axes(q[0], own_of(0, own_q), ei);
+      markers[1]->axes(q[1], own_of(1, own_q), ej);
     }
   phi_t.reinit(rows.size());
   for (unsigned int r = 0; r < rows.size(); ++r)
@@ -171,6 +171,12 @@ void GenericJoint::driver_rates(const std::vector<const double *> &q, const doub
       const Row &row = rows[r];
       if (row.kind == RowKind::translation && row.driven) phi_t[r] = -law->dual(t).derivative(1);
       else if (row.kind == RowKind::own) phi_t[r] = -row.own_law->dual(t).derivative(1);
+      else if (row.kind == RowKind::angle) // as in evaluate_rows
+        {
+          const geometry::Dual s = law->dual(t);
+          const double c = std::cos(s.value()), sn = std::sin(s.value());
+          phi_t[r] = -(ei[0] * (c * ej[0] + sn * ej[1])) * s.derivative(1);
+        }
     }
 }
 

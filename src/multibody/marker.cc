@@ -102,6 +102,34 @@ void BodyFixedDerivatives::add_H(const unsigned int a, const Vector3 &w, FullMat
     for (unsigned int j = 0; j < n; ++j) D(row0 + 3 + i, col0 + 7 + j) -= b_skew[i][0] * Z(0, j) + b_skew[i][1] * Z(1, j) + b_skew[i][2] * Z(2, j);
 }
 
+void Marker::axes(const double *q, const double *own, std::array<Vector3, 3> &e) const
+{
+  thread_local MarkerKinematics k;
+  evaluate(q, own, k);
+  e = k.axes;
+}
+
+void FixedMarker::axes(const double *q, const double *, std::array<Vector3, 3> &e) const
+{
+  // As evaluate(): e_c = A (a0_c + theta x a0_c), theta = Phi_th eta.
+  if (body().n_v() == 0) // ground
+    {
+      for (unsigned int c = 0; c < 3; ++c)
+        for (unsigned int b = 0; b < 3; ++b) e[c][b] = a0[b][c];
+      return;
+    }
+  const Matrix3 A = geometry::rotation_matrix({{q[3], q[4], q[5], q[6]}});
+  Vector3 theta;
+  for (unsigned int m = 0; m < body().n_modes(); ++m)
+    for (unsigned int a = 0; a < 3; ++a) theta[a] += phi(3 + a, m) * q[7 + m];
+  for (unsigned int c = 0; c < 3; ++c)
+    {
+      Vector3 a_0;
+      for (unsigned int b = 0; b < 3; ++b) a_0[b] = a0[b][c];
+      e[c] = A * (a_0 + cross_product_3d(theta, a_0));
+    }
+}
+
 void FixedMarker::evaluate(const double *q, const double *, MarkerKinematics &k) const
 {
   const unsigned int nv = body().n_v();

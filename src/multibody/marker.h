@@ -93,6 +93,9 @@ public:
   virtual void initial_own_coordinates(double * /*q*/, double * /*v*/) const {}
   /// Position, axes and Jacobians for body coordinates @p q, and own coordinates @p own.
   virtual void evaluate(const double *q, const double *own, MarkerKinematics &k) const = 0;
+  /// The unit axes alone (global; MarkerKinematics::axes), without the Jacobians: what a driven
+  /// angle's rate needs at every step. The default evaluates everything.
+  virtual void axes(const double *q, const double *own, std::array<Vector3, 3> &e) const;
   /// Its body-fixed form, if it has one (see BodyFixedForm); nullptr otherwise (a track contact,
   /// whose z depends on its arc length too).
   virtual const BodyFixedForm *body_fixed_form() const { return nullptr; }
@@ -120,6 +123,7 @@ public:
   FixedMarker(const Body &body, std::string name, const dealii::Point<3> &point, const Matrix3 &frame,
               const dealii::FullMatrix<double> &modes = dealii::FullMatrix<double>());
   void evaluate(const double *q, const double *own, MarkerKinematics &k) const override;
+  void axes(const double *q, const double *own, std::array<Vector3, 3> &e) const override;
   const BodyFixedForm *body_fixed_form() const override { return &form; }
 
   /// A marker at the global position @p position with global axes @p axes (columns) at the body's

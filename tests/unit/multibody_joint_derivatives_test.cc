@@ -255,7 +255,8 @@ TEST(MultibodyJointDerivatives, generic_joints_match_central_differences_per_kin
 
 // Joint::residual_terms (what the DAE residual takes of a joint, computed from the markers'
 // Jacobians without forming B) against the products with B itself (Joint::evaluate): equal to
-// round-off, 1e-13 of the largest entry (sums of a few tens of terms of size 1-100).
+// round-off, 1e-13 of the largest entry (sums of a few tens of terms of size 1-100). And
+// Joint::driver_rates (the markers' axes alone) against evaluate()'s Phi_t, to 1e-14.
 TEST(MultibodyJointDerivatives, residual_terms_equal_the_products_with_B_per_kind)
 {
   System s(Vector3({0, 0, -9.81}));
@@ -292,6 +293,11 @@ TEST(MultibodyJointDerivatives, residual_terms_equal_the_products_with_B_per_kin
           << cases[j].kind << ": B v + Phi_t";
         EXPECT_EQ(std::vector<double>(terms.phi.begin(), terms.phi.end()), std::vector<double>(e.phi.begin(), e.phi.end()))
           << cases[j].kind << ": Phi";
+        // driver_rates (the markers' axes alone, no Jacobians) against evaluate()'s Phi_t.
+        Vector<double> rates;
+        joint.driver_rates(q, own ? state.back().q.data() : nullptr, 0.7, rates);
+        for (unsigned int r = 0; r < rates.size(); ++r)
+          EXPECT_NEAR(rates[r], e.phi_t[r], 1e-14 * std::max(1.0, std::abs(e.phi_t[r]))) << cases[j].kind << ": Phi_t";
       }
 }
 
