@@ -103,6 +103,17 @@ const double *GenericJoint::own_of(const unsigned int m, const double *own_q) co
   return own_q + (m == 0 ? 0 : markers[0]->n_own_coordinates());
 }
 
+namespace
+{
+/// Phi_t of the driven-angle row e_i,x . (-sin th e_j,x + cos th e_j,y) for the law's value and
+/// rate @p s: -(e_i,x . (cos th e_j,x + sin th e_j,y)) th'.
+double angle_rate(const Vector3 &ei_x, const Vector3 &ej_x, const Vector3 &ej_y, const geometry::Dual &s)
+{
+  const double c = std::cos(s.value()), sn = std::sin(s.value());
+  return -(ei_x * (c * ej_x + sn * ej_y)) * s.derivative(1);
+}
+} // namespace
+
 void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const double *own_q, const double t, Local &l,
                                  Vector<double> &phi, Vector<double> &phi_t) const
 {
@@ -137,7 +148,7 @@ void GenericJoint::evaluate_rows(const std::vector<const double *> &q, const dou
               const double c = std::cos(s.value()), sn = std::sin(s.value());
               const Vector3 target = -sn * kj.axes[0] + c * kj.axes[1];
               phi[r] = ki.axes[0] * target;
-              phi_t[r] = -(ki.axes[0] * (c * kj.axes[0] + sn * kj.axes[1])) * s.derivative(1);
+              phi_t[r] = angle_rate(ki.axes[0], kj.axes[0], kj.axes[1], s);
               g[1] = target;
               g[5] = -sn * ki.axes[0];
               g[6] = c * ki.axes[0];
@@ -171,12 +182,7 @@ void GenericJoint::driver_rates(const std::vector<const double *> &q, const doub
       const Row &row = rows[r];
       if (row.kind == RowKind::translation && row.driven) phi_t[r] = -law->dual(t).derivative(1);
       else if (row.kind == RowKind::own) phi_t[r] = -row.own_law->dual(t).derivative(1);
-      else if (row.kind == RowKind::angle) // as in evaluate_rows
-        {
-          const geometry::Dual s = law->dual(t);
-          const double c = std::cos(s.value()), sn = std::sin(s.value());
-          phi_t[r] = -(ei[0] * (c * ej[0] + sn * ej[1])) * s.derivative(1);
-        }
+      else if (row.kind == RowKind::angle) phi_t[r] = angle_rate(ei[0], ej[0], ej[1], law->dual(t));
     }
 }
 
@@ -236,8 +242,9 @@ void GenericJoint::residual_terms(const std::vector<const double *> &q, const do
   for (const auto &marker : markers) n_columns += marker->body().n_v();
   r.force_lambda.assign(forces ? n_columns : 0, 0.0);
   r.force_mu.assign(forces ? n_columns : 0, 0.0);
-  // Column of a marker's first own coordinate: after both bodies' velocities.
-  unsigned int body_column = 0, own_column = markers[0]->body().n_v() + markers[1]->body().n_v();
+  // The own coordinates' columns follow both bodies' velocities.
+  const unsigned int first_own = markers[0]->body().n_v() + markers[1]->body().n_v();
+  unsigned int body_column = 0, own_column = first_own;
   for (unsigned int m = 0; m < 2; ++m)
     {
       const MarkerKinematics &k = l.k[m];
@@ -283,7 +290,6 @@ void GenericJoint::residual_terms(const std::vector<const double *> &q, const do
       own_column += n_own;
     }
   // A driven own coordinate's row: B_own = 1 in its column (evaluate), no marker gradient.
-  const unsigned int first_own = markers[0]->body().n_v() + markers[1]->body().n_v();
   for (unsigned int row = 0; row < rows.size(); ++row)
     if (rows[row].kind == RowKind::own)
       {

@@ -122,12 +122,14 @@ void FixedMarker::axes(const double *q, const double *, std::array<Vector3, 3> &
   Vector3 theta;
   for (unsigned int m = 0; m < body().n_modes(); ++m)
     for (unsigned int a = 0; a < 3; ++a) theta[a] += phi(3 + a, m) * q[7 + m];
-  for (unsigned int c = 0; c < 3; ++c)
-    {
-      Vector3 a_0;
-      for (unsigned int b = 0; b < 3; ++b) a_0[b] = a0[b][c];
-      e[c] = A * (a_0 + cross_product_3d(theta, a_0));
-    }
+  for (unsigned int c = 0; c < 3; ++c) e[c] = A * deformed_axis(c, theta);
+}
+
+Vector3 FixedMarker::deformed_axis(const unsigned int c, const Vector3 &theta) const
+{
+  Vector3 a_0;
+  for (unsigned int b = 0; b < 3; ++b) a_0[b] = a0[b][c];
+  return a_0 + cross_product_3d(theta, a_0);
 }
 
 void FixedMarker::evaluate(const double *q, const double *, MarkerKinematics &k) const
@@ -178,7 +180,7 @@ void FixedMarker::evaluate(const double *q, const double *, MarkerKinematics &k)
     {
       Vector3 a_0;
       for (unsigned int b = 0; b < 3; ++b) a_0[b] = a0[b][c];
-      const Vector3 b_c = a_0 + cross_product_3d(theta, a_0);
+      const Vector3 b_c = deformed_axis(c, theta);
       k.axes[c] = A * b_c;
       const Matrix3 Ab = -A * skew(b_c), Aa = -A * skew(a_0);
       FullMatrix<double> &J = k.J_axes[c];

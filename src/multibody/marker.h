@@ -135,6 +135,9 @@ public:
                                                      const std::string &interface = "");
 
 private:
+  /// Axis @p c in body axes after the small rotation @p theta of its point: a0_c + theta x a0_c.
+  Vector3 deformed_axis(unsigned int c, const Vector3 &theta) const;
+
   dealii::Point<3> x0;
   Matrix3 a0;                      ///< columns: axes in body axes
   dealii::FullMatrix<double> phi;  ///< 6 x n
