@@ -49,7 +49,7 @@ void print_reduced_body(const reduction::ReducedBody &b)
 
 int reduce_command(const Options &options, const io::SceneFile &file)
 {
-  // Under mpirun the reduction is distributed (its factorisation and eigen solve); the first
+  // Under mpirun the reduction is distributed (assembly, factorisation, eigen solve); the first
   // process writes the body and the results, the others only take part.
   const unsigned int n_processes = base::fe_processes();
   CommandClock clock;
@@ -65,8 +65,9 @@ int reduce_command(const Options &options, const io::SceneFile &file)
   if (n_processes > 1)
     {
       start_collective_work(); // also when 'run' of a body scene got here
-      std::cout << "  distributed over " << n_processes << " processes (MPI): MUMPS factorises, PARPACK solves the "
-                << "eigenproblem; every process holds the whole body model" << std::endl;
+      std::cout << "  distributed over " << n_processes << " processes (MPI): the solid partitioned by METIS, each "
+                << "process assembles and holds its own rows of K and M; MUMPS factorises, PARPACK solves the "
+                << "eigenproblem" << std::endl;
     }
   const auto obtained = io::cached_or_reduced_body(scene, body_file, std::cout, timer);
   const auto &body = obtained.body;

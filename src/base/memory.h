@@ -103,8 +103,9 @@ inline double available_memory_bytes(const double used_here)
   return std::max(available, 0.0);
 }
 
-/// What a memory check is about: a factor the processes share (each holds its part, so more
-/// machines help), or data every process holds whole (only fewer processes per machine help).
+/// What a memory check is about: data the processes share (a factor, a distributed model: each
+/// holds its part, so more machines help), or data every process holds whole (only fewer
+/// processes per machine help).
 enum class MemoryUse { shared_factor, replicated };
 
 /// Refuses a step that needs about @p bytes more on this process: throws SolverError, with what
@@ -162,7 +163,7 @@ inline void check_memory_for(const std::string &what, const double bytes, const 
   if (use == MemoryUse::replicated && n_processes > 1)
     m << "Every process holds all of it: run fewer processes on each machine, or run ";
   else if (use == MemoryUse::shared_factor && available > 0 && room_for_one > 1e-3 * total && machines > 1)
-    m << "The factor is about " << total / GiB << " GiB in all, which the processes share: run on about " << machines
+    m << "It is about " << total / GiB << " GiB in all, which the processes share: run on about " << machines
       << " machines like this one, one process on each (mpirun), or run ";
   else
     m << "Free memory on this machine, or run ";

@@ -35,14 +35,66 @@ std::string point_text(const Point<3> &p)
   s << "(" << p[0] << ", " << p[1] << ", " << p[2] << ") m";
   return s.str();
 }
+/// y_(g - first) += (A x)_g for this process' rows g of the distributed matrix @p A and @p m
+/// vectors: x is whole, indexed by A's column numbers; column k of x at x + k ld_x, of y at
+/// y + k ld_y.
+void own_rows_multiply(const Epetra_CrsMatrix &A, const double *x, const std::size_t ld_x, const unsigned int m,
+                       double *y, const std::size_t ld_y, const std::size_t first = 0)
+{
+  const int *column_gid = A.ColMap().MyGlobalElements();
+  for (int r = 0; r < A.NumMyRows(); ++r)
+    {
+      int n, *idx;
+      double *v;
+      A.ExtractMyRowView(r, n, v, idx);
+      const std::size_t row = A.RowMap().GID(r) - first;
+      for (unsigned int k = 0; k < m; ++k)
+        {
+          const double *xk = x + k * ld_x;
+          double sum = 0;
+          for (int e = 0; e < n; ++e) sum += v[e] * xk[column_gid[idx[e]]];
+          y[k * ld_y + row] += sum;
+        }
+    }
+}
+
+/// Sends @p outgoing[p] to process p (for every p) and returns what the others sent here, one
+/// after the other in the order of their ranks.
+std::vector<double> send_to_owners(const std::vector<std::vector<double>> &outgoing, const MPI_Comm comm)
+{
+  const std::size_t n = outgoing.size();
+  std::vector<int> send_counts(n), receive_counts(n), send_offsets(n, 0), receive_offsets(n, 0);
+  for (std::size_t p = 0; p < n; ++p)
+    {
+      AssertThrow(outgoing[p].size() < (1u << 30), ExcMessage("too many contributions for one MPI message"));
+      send_counts[p] = static_cast<int>(outgoing[p].size());
+    }
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm);
+  std::vector<double> send;
+  for (std::size_t p = 0; p < n; ++p)
+    {
+      send_offsets[p] = static_cast<int>(send.size());
+      send.insert(send.end(), outgoing[p].begin(), outgoing[p].end());
+    }
+  std::size_t total = 0;
+  for (std::size_t p = 0; p < n; ++p)
+    {
+      receive_offsets[p] = static_cast<int>(total);
+      total += receive_counts[p];
+    }
+  AssertThrow(total < (1u << 30), ExcMessage("too many contributions for one MPI message"));
+  std::vector<double> received(total);
+  MPI_Alltoallv(send.data(), send_counts.data(), send_offsets.data(), MPI_DOUBLE, received.data(),
+                receive_counts.data(), receive_offsets.data(), MPI_DOUBLE, comm);
+  return received;
+}
 } // namespace
 
 BodyModel::~BodyModel() = default;
 
-BodyModel::BodyModel(const Body &body) : description(body)
+BodyModel::BodyModel(const Body &body, const MPI_Comm communicator)
+  : description(body), comm(communicator), rank(Utilities::MPI::this_mpi_process(communicator))
 {
-  // Every process of a distributed reduction builds the whole model (its matrices live on
-  // MPI_COMM_SELF); the reduction distributes the rows it factorises (reduction/component_modes.cc).
   // Each arm gets a mesh node at every interface on it; supports stay out of the matrices and
   // are applied with the ties.
   for (unsigned int a = 0; a < body.arms.size(); ++a)
@@ -55,8 +107,8 @@ BodyModel::BodyModel(const Body &body) : description(body)
   unsigned int offset = 0;
   if (body.solid)
     {
-      check_memory_for_solid(*body.solid);
-      solid = std::make_unique<SolidModel>(*body.solid, 0, false, true, MPI_COMM_SELF);
+      check_memory_for_solid(*body.solid, communicator);
+      solid = std::make_unique<SolidModel>(*body.solid, 0, false, true, communicator);
       offset = solid->n_dofs();
     }
   for (const auto &arm : arms)
@@ -68,10 +120,56 @@ BodyModel::BodyModel(const Body &body) : description(body)
   n_full = offset;
   collect_nodes();
   build_constraints();
+  distribute_rows();
   condense_matrices();
 }
 
-void BodyModel::check_memory_for_solid(const Solid &solid)
+void BodyModel::distribute_rows()
+{
+  const unsigned int n_processes = Utilities::MPI::n_mpi_processes(comm);
+  if (n_processes == 1)
+    {
+      first_rows = {0, n_body_dofs};
+      own_begin = 0;
+      own_end = n_body_dofs;
+      return;
+    }
+  first_rows.assign(n_processes + 1, 0);
+  if (!solid)
+    {
+      // Arms only (a small model): equal blocks of rows. The last process condenses the arms and
+      // sends the other processes their rows.
+      for (unsigned int p = 0; p <= n_processes; ++p)
+        first_rows[p] = static_cast<unsigned int>(static_cast<std::uint64_t>(n_body_dofs) * p / n_processes);
+      own_begin = first_rows[rank];
+      own_end = first_rows[rank + 1];
+      return;
+    }
+  // The solid's own dofs: a contiguous block, the blocks in rank order (the shared
+  // triangulation numbers them so). The last process' block of full dofs runs to the end: the
+  // arms and the interface and output points.
+  const IndexSet &owned = solid->dof_handler().locally_owned_dofs();
+  const unsigned int n_own_solid = owned.n_elements();
+  const unsigned int first_own_solid = n_own_solid > 0 ? owned.nth_index_in_set(0) : 0;
+  AssertThrow(n_own_solid == 0 || owned.is_contiguous(), ExcMessage("the solid's own dofs on a process are not one block"));
+  const auto counts = Utilities::MPI::all_gather(comm, n_own_solid);
+  const auto firsts = Utilities::MPI::all_gather(comm, first_own_solid);
+  std::vector<unsigned int> first_full(n_processes + 1, 0);
+  for (unsigned int p = 0; p < n_processes; ++p)
+    {
+      AssertThrow(counts[p] == 0 || firsts[p] == first_full[p],
+                  ExcMessage("the solid's blocks of dofs do not follow the ranks"));
+      first_full[p + 1] = first_full[p] + counts[p];
+    }
+  first_full[n_processes] = n_full;
+  // Body dofs keep the order of the full dofs they are: a block of full dofs is a block of rows.
+  for (unsigned int p = 0; p <= n_processes; ++p)
+    first_rows[p] = std::lower_bound(full_of_column.begin(), full_of_column.end(), first_full[p]) - full_of_column.begin();
+  own_begin = first_rows[rank];
+  own_end = first_rows[rank + 1];
+}
+
+void BodyModel::check_memory_for_solid(const Solid &solid, const MPI_Comm communicator)
 {
   // What the model of a solid holds until the factorisation, per solid dof (hex20 links of
   // 8 x 8 x N cells, tests/bench/distributed_reduction.py): the solid's M, the condensed K and
@@ -79,8 +177,8 @@ void BodyModel::check_memory_for_solid(const Solid &solid)
   // workspace of the factor's fill-reducing ordering, which comes first and is the peak.
   // Measured 2026-12-02 (FLEXTRACK_MEMORY_PROBE, "fill-reducing ordering done", less the
   // program's 0.18 GB): 10.25 kB per dof for the 2.4e5-dof body; 7.7 kB once the ordering's
-  // workspace is given back (the log's "held then"). Rounded up. Every process of a distributed
-  // reduction holds all of it.
+  // workspace is given back (the log's "held then"). Rounded up. The processes of a distributed
+  // model share the matrices; each holds the mesh, the nodes and T whole, taken as 1 kB per dof.
   // Other elements couple more or fewer dofs per row: scaled by their typical row length, about
   // 81 entries for hex8, 160 for hex20 (the link above) and 300 for hex27.
   constexpr double bytes_per_hex20_dof = 11000;
@@ -92,10 +190,15 @@ void BodyModel::check_memory_for_solid(const Solid &solid)
   if (solid.element != SolidElement::hex8) nodes += tria.n_lines();
   if (solid.element == SolidElement::hex27) nodes += tria.n_quads() + tria.n_hexs();
   const double dofs = 3 * nodes;
-  const MPI_Comm communicator = base::fe_communicator();
+  const unsigned int n_processes = Utilities::MPI::n_mpi_processes(communicator);
+  constexpr double replicated_bytes_per_dof = 1000;
   std::ostringstream what;
   what << "assembling the body model (" << static_cast<std::uint64_t>(dofs) << " solid dofs)";
-  base::check_memory_for(what.str(), bytes_per_dof * dofs, &communicator, base::MemoryUse::replicated);
+  if (n_processes == 1)
+    base::check_memory_for(what.str(), bytes_per_dof * dofs, nullptr, base::MemoryUse::replicated);
+  else
+    base::check_memory_for(what.str(), (bytes_per_dof / n_processes + replicated_bytes_per_dof) * dofs, &communicator,
+                           base::MemoryUse::shared_factor);
 }
 
 void BodyModel::collect_nodes()
@@ -479,28 +582,41 @@ void BodyModel::condense_matrices()
   // T^T A T entry by entry: row i of a part, column j, value v adds v T(i,a) T(j,b) at (a, b).
   // Two passes over the same contributions: the pattern of every condensed row, then the values.
   // K and M share the pattern (point masses add explicit zeros to K).
-  std::vector<std::vector<int>> rows(n_body_dofs);
+  // Distributed: each process visits its own rows of the parts and keeps what falls into its
+  // own condensed rows; what falls into another process' rows (tie regions, arm roots) is sent
+  // there after the first pass, with its values, as (row, column, K, M).
+  const unsigned int n_own = own_end - own_begin, n_processes = first_rows.size() - 1;
+  std::vector<std::vector<int>> rows(n_own);
+  std::vector<std::vector<double>> outgoing(n_processes);
   CsrMatrix K, M;
   bool values_pass = false;
   auto add_row = [&](const unsigned int i, const unsigned int n, const int *cols, const double *kv, const double *mv) {
     for (unsigned int a = t_start[i]; a < t_start[i + 1]; ++a)
       {
         const unsigned int row = t_entries[a].column;
+        const bool own = row >= own_begin && row < own_end;
+        if (!own && values_pass) continue;
+        std::vector<double> *remote = nullptr;
+        if (!own)
+          remote = &outgoing[std::upper_bound(first_rows.begin(), first_rows.end(), row) - first_rows.begin() - 1];
         for (unsigned int e = 0; e < n; ++e)
           for (unsigned int b = t_start[cols[e]]; b < t_start[cols[e] + 1]; ++b)
             {
               const int col = t_entries[b].column;
-              if (!values_pass)
-                rows[row].push_back(col);
+              const double t = t_entries[a].value * t_entries[b].value;
+              if (remote)
+                remote->insert(remote->end(), {double(row), double(col), kv[e] * t, mv[e] * t});
+              else if (!values_pass)
+                rows[row - own_begin].push_back(col);
               else
                 {
-                  const double t = t_entries[a].value * t_entries[b].value;
-                  K.add(row, col, kv[e] * t);
-                  M.add(row, col, mv[e] * t);
+                  K.add(row - own_begin, col, kv[e] * t);
+                  M.add(row - own_begin, col, mv[e] * t);
                 }
             }
       }
   };
+  std::vector<double> incoming; // (row, column, K, M) sent here by the other processes
   auto add_part = [&](const TrilinosWrappers::SparseMatrix &Kp, const TrilinosWrappers::SparseMatrix &Mp,
                       const unsigned int offset) {
     const Epetra_CrsMatrix &k = Kp.trilinos_matrix(), &m = Mp.trilinos_matrix();
@@ -528,28 +644,68 @@ void BodyModel::condense_matrices()
   for (int pass = 0; pass < 2; ++pass)
     {
       if (solid) add_part(solid->stiffness_matrix(), solid->mass_matrix(), 0);
-      for (unsigned int a = 0; a < arm_models.size(); ++a)
-        add_part(arm_models[a]->stiffness_matrix(), arm_models[a]->mass_matrix(), arm_offsets[a]);
-      for (const auto &[ij, value] : point_mass_entries)
+      if (holds_arms())
         {
-          const int col = ij[1];
-          const double zero = 0.0;
-          add_row(ij[0], 1, &col, &zero, &value);
+          for (unsigned int a = 0; a < arm_models.size(); ++a)
+            add_part(arm_models[a]->stiffness_matrix(), arm_models[a]->mass_matrix(), arm_offsets[a]);
+          for (const auto &[ij, value] : point_mass_entries)
+            {
+              const int col = ij[1];
+              const double zero = 0.0;
+              add_row(ij[0], 1, &col, &zero, &value);
+            }
         }
       if (pass == 0)
         {
+          if (n_processes > 1) incoming = send_to_owners(outgoing, comm);
+          for (std::size_t e = 0; e < incoming.size(); e += 4)
+            rows[static_cast<unsigned int>(incoming[e]) - own_begin].push_back(static_cast<int>(incoming[e + 1]));
           K = CsrMatrix(std::move(rows));
           M = K;
           values_pass = true;
         }
     }
+  for (std::size_t e = 0; e < incoming.size(); e += 4)
+    {
+      const unsigned int row = static_cast<unsigned int>(incoming[e]) - own_begin;
+      K.add(row, static_cast<int>(incoming[e + 1]), incoming[e + 2]);
+      M.add(row, static_cast<int>(incoming[e + 1]), incoming[e + 3]);
+    }
   // The solid's K is not needed any more (its M is: full_mass_multiply); M keeps the graph they
   // share. One copy at a time: a large body's matrices are most of its memory.
   if (solid) solid->release_stiffness();
-  K.to_trilinos(stiffness);
+  if (n_processes > 1)
+    K.to_trilinos(stiffness, own_begin, n_body_dofs, comm);
+  else
+    K.to_trilinos(stiffness);
   K = CsrMatrix();
-  M.to_trilinos_on_graph_of(stiffness, mass);
+  M.to_trilinos_on_graph_of(stiffness, mass, own_begin);
 }
+
+void BodyModel::body_vmult(const TrilinosWrappers::SparseMatrix &A, Vector<double> &dst, const Vector<double> &src) const
+{
+  dst.reinit(n_body_dofs);
+  if (!distributed())
+    {
+      A.vmult(dst, src);
+      return;
+    }
+  const Epetra_CrsMatrix &a = A.trilinos_matrix();
+  std::vector<double> own(own_end - own_begin, 0.0);
+  own_rows_multiply(a, src.begin(), src.size(), 1, own.data(), own.size(), own_begin);
+  std::vector<int> counts(first_rows.size() - 1), offsets(first_rows.size() - 1);
+  for (std::size_t p = 0; p + 1 < first_rows.size(); ++p)
+    {
+      counts[p] = static_cast<int>(first_rows[p + 1] - first_rows[p]);
+      offsets[p] = static_cast<int>(first_rows[p]);
+    }
+  MPI_Allgatherv(own.data(), static_cast<int>(own.size()), MPI_DOUBLE, dst.begin(), counts.data(), offsets.data(),
+                 MPI_DOUBLE, comm);
+}
+
+void BodyModel::stiffness_vmult(Vector<double> &dst, const Vector<double> &src) const { body_vmult(stiffness, dst, src); }
+
+void BodyModel::mass_vmult(Vector<double> &dst, const Vector<double> &src) const { body_vmult(mass, dst, src); }
 
 Vector<double> BodyModel::expand(const Vector<double> &y) const
 {
@@ -576,7 +732,25 @@ void BodyModel::full_mass_vmult(Vector<double> &dst, const Vector<double> &src) 
 
 void BodyModel::full_mass_multiply(const double *X, const unsigned int m, double *Y) const
 {
-  std::fill(Y, Y + static_cast<std::size_t>(n_full) * m, 0.0);
+  const std::size_t size = static_cast<std::size_t>(n_full) * m;
+  std::fill(Y, Y + size, 0.0);
+  if (distributed())
+    {
+      // Each process computes the solid's rows it owns, the last one also the arms and point
+      // masses; every row is computed once, so a sum over the processes gathers them.
+      if (solid) own_rows_multiply(solid->mass_matrix().trilinos_matrix(), X, n_full, m, Y, n_full);
+      if (holds_arms())
+        {
+          for (unsigned int a = 0; a < arm_models.size(); ++a)
+            own_rows_multiply(arm_models[a]->mass_matrix().trilinos_matrix(), X + arm_offsets[a], n_full, m,
+                              Y + arm_offsets[a], n_full);
+          add_point_masses_product(X, m, Y);
+        }
+      for (std::size_t begin = 0; begin < size; begin += 1u << 28)
+        MPI_Allreduce(MPI_IN_PLACE, Y + begin, static_cast<int>(std::min<std::size_t>(size - begin, 1u << 28)),
+                      MPI_DOUBLE, MPI_SUM, comm);
+      return;
+    }
   auto part = [&](const TrilinosWrappers::SparseMatrix &M, const unsigned int offset) {
     const Epetra_CrsMatrix &A = M.trilinos_matrix();
     // Views of the part's rows of X and Y (leading dimension n_full).
@@ -586,6 +760,11 @@ void BodyModel::full_mass_multiply(const double *X, const unsigned int m, double
   };
   if (solid) part(solid->mass_matrix(), 0);
   for (unsigned int a = 0; a < arm_models.size(); ++a) part(arm_models[a]->mass_matrix(), arm_offsets[a]);
+  add_point_masses_product(X, m, Y);
+}
+
+void BodyModel::add_point_masses_product(const double *X, const unsigned int m, double *Y) const
+{
   for (unsigned int k = 0; k < m; ++k)
     for (const auto &[ij, value] : point_mass_entries)
       Y[static_cast<std::size_t>(k) * n_full + ij[0]] += value * X[static_cast<std::size_t>(k) * n_full + ij[1]];

@@ -9,8 +9,17 @@
 //  - distributing tie: the arm root follows the region, u_r = mean(u_n) + theta x (x_r - x_c),
 //    with theta the least-squares rotation of the region about its centroid x_c.
 // Rigid motions satisfy every tie exactly, so a free body keeps its six zero-energy modes.
-// The condensed matrices are T^T K T and T^T M T (serial Trilinos matrices with one sparsity
-// pattern); the full mass, with point masses, stays available for inertia integrals.
+// The condensed matrices are T^T K T and T^T M T (Trilinos matrices with one sparsity pattern);
+// the full mass, with point masses, stays available for inertia integrals.
+//
+// Distributed (a communicator of several processes: `mpirun -np N flextrack reduce`): every
+// process holds the mesh, the nodes and T whole, but only its own rows of the matrices. The
+// solid is partitioned by METIS (SolidModel); a process owns the condensed rows of the
+// independent dofs of its part of the solid, the last process also those of the arms and the
+// interface points. Each assembles its own cells and condenses its own rows of the parts; the
+// few contributions that land in another process' rows (tie regions to their masters, an arm
+// root to its region) are sent there. Vectors stay whole on every process: products with the
+// matrices compute the own rows and gather them.
 #pragma once
 
 #include <fem/body.h>
@@ -31,9 +40,10 @@ namespace flextrack::fem
 class BodyModel
 {
 public:
-  /// Builds the parts' models and the constraints. Throws InputError for ties or interfaces
-  /// that find no nodes, or interfaces that lie on a support.
-  explicit BodyModel(const Body &body);
+  /// Builds the parts' models and the constraints, distributed over @p communicator (a single
+  /// process holds everything). Throws InputError for ties or interfaces that find no nodes, or
+  /// interfaces that lie on a support. Collective over @p communicator.
+  explicit BodyModel(const Body &body, MPI_Comm communicator = MPI_COMM_SELF);
   ~BodyModel();
 
   // --- the condensed (independent) dofs y --------------------------------------------------
@@ -42,6 +52,17 @@ public:
   const dealii::TrilinosWrappers::SparseMatrix &mass_matrix() const { return mass; }
   /// True if any dof is fixed by a support (the body cannot move rigidly).
   bool is_supported() const { return supported; }
+  /// dst = K src and dst = M src for whole body-dof vectors (on every process, collective when
+  /// distributed).
+  void stiffness_vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+  void mass_vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+
+  // --- distribution of the matrices' rows (one block of body dofs per process, in rank order) --
+  bool distributed() const { return first_rows.size() > 2; }
+  MPI_Comm communicator() const { return comm; }
+  /// This process' rows of stiffness_matrix() and mass_matrix(): [first_owned_row(), + n_owned_rows()).
+  unsigned int first_owned_row() const { return own_begin; }
+  unsigned int n_owned_rows() const { return own_end - own_begin; }
 
   struct Interface
   {
@@ -75,10 +96,11 @@ public:
   dealii::Vector<double> expand(const dealii::Vector<double> &y) const;
   /// T^T f for a full-dof load vector.
   dealii::Vector<double> condense(const dealii::Vector<double> &f_full) const;
-  /// dst = M_full src: the parts' consistent mass plus the point masses.
+  /// dst = M_full src: the parts' consistent mass plus the point masses (whole vectors on every
+  /// process; collective when distributed).
   void full_mass_vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
   /// Y = M_full X for @p m vectors stored column by column (n_full_dofs() each): one pass over
-  /// each part's matrix for all of them.
+  /// each part's matrix for all of them (collective when distributed).
   void full_mass_multiply(const double *X, unsigned int m, double *Y) const;
 
   /// A node of the full model: its position and its full dofs (theta = -1 on solid nodes).
@@ -107,7 +129,7 @@ private:
     double value;
   };
   /// Refuses (SolverError) a solid whose model will not fit in the memory left (base/memory.h).
-  static void check_memory_for_solid(const Solid &solid);
+  static void check_memory_for_solid(const Solid &solid, MPI_Comm communicator);
   void collect_nodes();
   // The constraints x = T y of supports, ties, interfaces and output points, in these steps:
   void build_constraints();
@@ -119,7 +141,16 @@ private:
   void add_output_points(dealii::AffineConstraints<double> &c, const std::vector<unsigned int> &first_dof);
   void add_point_masses();
   void build_transformation(const dealii::AffineConstraints<double> &c);
+  /// The first body row of every process (and n_dofs() at the end), from the solid's partition.
+  void distribute_rows();
   void condense_matrices();
+  /// Y += point masses x X (full dofs, @p m columns).
+  void add_point_masses_product(const double *X, unsigned int m, double *Y) const;
+  /// dst = A src for the body matrix @p A (whole vectors): the own rows, gathered.
+  void body_vmult(const dealii::TrilinosWrappers::SparseMatrix &A, dealii::Vector<double> &dst,
+                  const dealii::Vector<double> &src) const;
+  /// Whether this process computes the arms' rows and the point masses (the last one does).
+  bool holds_arms() const { return first_rows.size() <= 2 || rank + 2 == first_rows.size(); }
   std::vector<unsigned int> region_nodes(const NodeRegion &region, const dealii::Point<3> &centre,
                                          const std::string &entry, const std::string &what) const;
   /// Throws unless the region's nodes span a plane (else they cannot carry a rotation).
@@ -128,6 +159,10 @@ private:
   std::array<unsigned int, 6> arm_node_dofs(unsigned int arm, double s) const;
 
   const Body &description;
+  MPI_Comm comm;
+  unsigned int rank = 0;
+  std::vector<unsigned int> first_rows{0, 0}; // first body row of each process, then n_body_dofs
+  unsigned int own_begin = 0, own_end = 0;
   std::vector<std::unique_ptr<Arm>> arms;  // copies with a mesh node at every interface
   std::unique_ptr<SolidModel> solid;
   std::vector<std::unique_ptr<CurvedBeamModel>> arm_models;

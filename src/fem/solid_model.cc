@@ -5,6 +5,7 @@
 #include <base/memory.h>
 #include <base/mpi_session.h>
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
@@ -12,6 +13,7 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
 #include <sstream>
@@ -334,17 +336,37 @@ void SolidModel::assemble()
   AffineConstraints<double> none;
   none.close();
   const AffineConstraints<double> &applied = constrained_assembly ? supports : none;
-  // The pattern of every row from every cell: DoFTools::make_sparsity_pattern would visit only
-  // this process's cells, and miss couplings of its rows through the neighbours' cells.
+  // The pattern of the rows this process writes (its own rows and those its cells touch) from
+  // every cell: DoFTools::make_sparsity_pattern would visit only this process's cells, and miss
+  // couplings of its rows through the neighbours' cells. Under MPI the pattern holds those rows
+  // only (a pattern of every row would be the whole matrix's graph on every process, and Trilinos
+  // would keep the rows it does not own as a second matrix for the values sent to their owners).
   {
-    DynamicSparsityPattern pattern(dofs.n_dofs());
+    const IndexSet &owned = dofs.locally_owned_dofs();
     std::vector<types::global_dof_index> cell_dofs(fe->n_dofs_per_cell());
+    IndexSet written; // empty: every row (one process)
+    if (Utilities::MPI::n_mpi_processes(tria.get_communicator()) > 1)
+      {
+        written.set_size(dofs.n_dofs());
+        std::vector<types::global_dof_index> rows;
+        for (const auto &cell : dofs.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              cell->get_dof_indices(cell_dofs);
+              rows.insert(rows.end(), cell_dofs.begin(), cell_dofs.end());
+            }
+        std::sort(rows.begin(), rows.end());
+        rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+        written.add_indices(rows.begin(), rows.end());
+        written.add_indices(owned);
+        written.compress();
+      }
+    DynamicSparsityPattern pattern(dofs.n_dofs(), dofs.n_dofs(), written);
     for (const auto &cell : dofs.active_cell_iterators())
       {
         cell->get_dof_indices(cell_dofs);
         applied.add_entries_local_to_global(cell_dofs, pattern, false);
       }
-    const IndexSet &owned = dofs.locally_owned_dofs();
     stiffness.reinit(owned, owned, pattern, tria.get_communicator());
   }
   // M has K's pattern and shares K's graph (Epetra counts references): one copy of the column

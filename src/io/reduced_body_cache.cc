@@ -163,7 +163,7 @@ ObtainedBody cached_or_reduced_body(const BodyScene &scene, const std::string &f
       std::unique_ptr<fem::BodyModel> model;
       {
         TimerOutput::Scope t(timer, "assemble body (K, M, ties)");
-        model = std::make_unique<fem::BodyModel>(scene.body);
+        model = std::make_unique<fem::BodyModel>(scene.body, communicator);
       }
       log << "  body: " << model->n_full_dofs() << " dofs, " << model->n_dofs() << " after ties and supports ("
           << (model->is_supported() ? "supported" : "free") << ")\n";

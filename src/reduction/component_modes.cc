@@ -143,16 +143,16 @@ void restrict_matrices(const TrilinosWrappers::SparseMatrix &K, const TrilinosWr
 /// The body's matrices with some dofs clamped: restricted matrices, their factorisation, and
 /// the maps between the two numberings.
 ///
-/// Under MPI (more than one process in base::fe_communicator()) every process holds the whole
-/// body model, and the restricted matrices are distributed: each process owns a contiguous
-/// block of their rows, MUMPS factorises them in parallel (its factor, the memory that limits
-/// the size of a body, spread over the processes), the eigen solve runs on PARPACK, and the
-/// solutions are gathered so that every process continues with the same whole vectors.
+/// A distributed body (fem/body_model.h) gives distributed restricted matrices: each process
+/// keeps the kept dofs of its own block of rows, MUMPS factorises them in parallel (its factor,
+/// the memory that limits the size of a body, spread over the processes), the eigen solve runs
+/// on PARPACK, and the solutions are gathered so that every process continues with the same
+/// whole vectors.
 class ClampedBody
 {
 public:
   ClampedBody(const fem::BodyModel &body, const std::vector<unsigned int> &clamped)
-    : keep(body.n_dofs(), 0), communicator(base::fe_communicator()), K_ptr(&body.stiffness_matrix()),
+    : keep(body.n_dofs(), 0), communicator(body.communicator()), K_ptr(&body.stiffness_matrix()),
       M_ptr(&body.mass_matrix())
   {
     for (const auto i : clamped) keep[i] = -1;
@@ -163,11 +163,12 @@ public:
           kept.push_back(i);
         }
     const unsigned int n = kept.size();
-    const unsigned int n_processes = base::fe_processes(), rank = base::fe_rank();
-    first_row = static_cast<unsigned int>(static_cast<std::uint64_t>(n) * rank / n_processes);
-    n_rows = static_cast<unsigned int>(static_cast<std::uint64_t>(n) * (rank + 1) / n_processes) - first_row;
-    several = n_processes > 1;
-    if (several || !clamped.empty())
+    // The kept dofs of this process' rows of the body: a block too, as keep[] keeps the order.
+    const unsigned int begin = body.first_owned_row(), end = begin + body.n_owned_rows();
+    first_row = std::lower_bound(kept.begin(), kept.end(), begin) - kept.begin();
+    n_rows = (std::lower_bound(kept.begin(), kept.end(), end) - kept.begin()) - first_row;
+    several = body.distributed();
+    if (!clamped.empty())
       {
         restrict_matrices(body.stiffness_matrix(), body.mass_matrix(), keep, n, first_row, n_rows,
                           several ? communicator : MPI_COMM_SELF, K_kept, M_kept);
@@ -175,7 +176,7 @@ public:
         M_ptr = &M_kept;
       }
   }
-  /// The matrices of the kept dofs (the body's own if nothing is clamped and there is one process).
+  /// The matrices of the kept dofs (the body's own if nothing is clamped).
   const TrilinosWrappers::SparseMatrix &K() const { return *K_ptr; }
   const TrilinosWrappers::SparseMatrix &M() const { return *M_ptr; }
   unsigned int size() const { return kept.size(); }
@@ -256,10 +257,10 @@ struct MOrthonormalSet
   std::vector<Vector<double>> vectors, M_vectors;
   /// Appends v made M-orthogonal to @p against and to this set (classical Gram-Schmidt, twice:
   /// Kahan's "twice is enough") unless it is dependent within 1e-8; returns whether it was kept.
-  bool append(Vector<double> v, const MOrthonormalSet &against, const TrilinosWrappers::SparseMatrix &M)
+  bool append(Vector<double> v, const MOrthonormalSet &against, const fem::BodyModel &body)
   {
     Vector<double> Mv(v.size());
-    M.vmult(Mv, v);
+    body.mass_vmult(Mv, v);
     const double original = std::sqrt(v * Mv);
     if (!(original > 0)) return false;
     for (int pass = 0; pass < 2; ++pass)
@@ -269,7 +270,7 @@ struct MOrthonormalSet
           for (unsigned int j = 0; j < c.size(); ++j) c[j] = set->M_vectors[j] * v;
           for (unsigned int j = 0; j < c.size(); ++j) v.add(-c[j], set->vectors[j]);
         }
-    M.vmult(Mv, v);
+    body.mass_vmult(Mv, v);
     const double norm = std::sqrt(v * Mv);
     if (!(norm > 1e-8 * original)) return false;
     v /= norm;
@@ -285,7 +286,7 @@ MOrthonormalSet orthonormal_rigid_modes(const fem::BodyModel &body)
 {
   MOrthonormalSet R;
   const MOrthonormalSet none;
-  for (auto &r : body.rigid_body_modes()) R.append(r, none, body.mass_matrix());
+  for (auto &r : body.rigid_body_modes()) R.append(r, none, body);
   AssertThrow(R.vectors.size() == 6, ExcMessage("the body's rigid-body modes are dependent (all nodes on one line?)"));
   return R;
 }
@@ -453,7 +454,7 @@ void add_normal_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
                       std::to_string(modes.eigenvalues[6]) + " rad^2/s^2): a part is not tied to the rest; "
                       "check Body/Ties");
   for (unsigned int i = n_rigid; i < modes.shapes.size(); ++i)
-    basis.append(method.fixed_interface ? anchored.expand(modes.shapes[i]) : modes.shapes[i], R, body.mass_matrix());
+    basis.append(method.fixed_interface ? anchored.expand(modes.shapes[i]) : modes.shapes[i], R, body);
 }
 
 /// The static vectors: interface constraint modes (fixed interface) or residual attachment modes
@@ -462,7 +463,6 @@ void add_static_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
                       const ReductionSettings &settings, const ReductionMethod &method,
                       const std::vector<unsigned int> &track_arms, MOrthonormalSet &basis, ReducedBasis &r)
 {
-  const auto &K = body.stiffness_matrix();
   const auto &interfaces = body.interfaces();
   const bool relieve = !R.vectors.empty();
   std::vector<Vector<double>> loads;
@@ -479,7 +479,7 @@ void add_static_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
               // u = e_j on the interface, K_oo u_o = -K_oj elsewhere.
               Vector<double> e(body.n_dofs());
               e[dof] = 1;
-              K.vmult(f, e);
+              body.stiffness_vmult(f, e);
               f *= -1;
             }
           else
@@ -509,7 +509,7 @@ void add_static_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
   for (unsigned int i = 0; i < responses.size(); ++i)
     {
       if (prescribed[i] >= 0) responses[i][prescribed[i]] = 1;
-      if (!basis.append(std::move(responses[i]), R, body.mass_matrix()))
+      if (!basis.append(std::move(responses[i]), R, body))
         ++r.n_dropped;
       else if (is_track[i])
         {
@@ -525,14 +525,13 @@ void add_static_modes(const fem::BodyModel &body, ClampedBody &anchored, const M
 /// K_r and M_r come from the stored products; the rotated ones are V^T K_r V and V^T M_r V.
 void diagonalise(const fem::BodyModel &body, const MOrthonormalSet &basis, ReducedBasis &r)
 {
-  const auto &K = body.stiffness_matrix();
   const unsigned int n = basis.vectors.size();
   LAPACKFullMatrix<double> Kr(n), Mr(n);
   {
     Vector<double> Kb(body.n_dofs());
     for (unsigned int b = 0; b < n; ++b)
       {
-        K.vmult(Kb, basis.vectors[b]);
+        body.stiffness_vmult(Kb, basis.vectors[b]);
         for (unsigned int a = 0; a < n; ++a) Kr(a, b) = basis.vectors[a] * Kb;
       }
   }
