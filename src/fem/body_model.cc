@@ -680,6 +680,9 @@ void BodyModel::condense_matrices()
     K.to_trilinos(stiffness);
   K = CsrMatrix();
   M.to_trilinos_on_graph_of(stiffness, mass, own_begin);
+  M = CsrMatrix();
+  base::release_free_heap(); // the passes' work space: the factorisation comes next
+  base::probe_memory("body K and M condensed");
 }
 
 void BodyModel::body_vmult(const TrilinosWrappers::SparseMatrix &A, Vector<double> &dst, const Vector<double> &src) const

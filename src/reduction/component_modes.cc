@@ -2,6 +2,7 @@
 #include <base/text.h>
 #include <base/input_error.h>
 #include <reduction/component_modes.h>
+#include <base/memory.h>
 #include <reduction/sparse_factorization.h>
 #include <fem/csr_matrix.h>
 
@@ -174,6 +175,8 @@ public:
                           several ? communicator : MPI_COMM_SELF, K_kept, M_kept);
         K_ptr = &K_kept;
         M_ptr = &M_kept;
+        base::release_free_heap(); // the copies' work space: the factorisation comes next
+        base::probe_memory("clamped K and M made");
       }
   }
   /// The matrices of the kept dofs (the body's own if nothing is clamped).

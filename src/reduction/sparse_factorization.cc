@@ -84,10 +84,15 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
   if (method == "cholmod" && factorize_with_cholmod(K, M, sigma))
     return;
   if (out_of_memory) throw out_of_memory_error(K.m()); // MUMPS would need more
-  // Not positive definite (a positive shift), or another method asked for: LDL^T or LU.
-  matrix.copy_from(K);
-  matrix.add(-sigma, M);
-  factorize_with_amesos(method == "klu" ? "klu" : "mumps");
+  // Not positive definite (a positive shift), or another method asked for: LDL^T or LU. With
+  // sigma = 0 (the clamped body of a distributed reduction) A is K itself: no copy, which would
+  // be one more matrix the size of K on every process, beside the factor.
+  if (sigma != 0)
+    {
+      matrix.copy_from(K);
+      matrix.add(-sigma, M);
+    }
+  factorize_with_amesos(method == "klu" ? "klu" : "mumps", sigma != 0 ? matrix : K);
 }
 
 SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
@@ -301,9 +306,10 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
   return true;
 }
 
-void SparseFactorization::factorize_with_amesos(const std::string &method)
+void SparseFactorization::factorize_with_amesos(const std::string &method, const dealii::TrilinosWrappers::SparseMatrix &a)
 {
-  Epetra_CrsMatrix &A = const_cast<Epetra_CrsMatrix &>(matrix.trilinos_matrix());
+  // Amesos takes a non-const matrix; it only reads it.
+  Epetra_CrsMatrix &A = const_cast<Epetra_CrsMatrix &>(a.trilinos_matrix());
   const Epetra_Map &map = A.RowMap();
   lhs = std::make_unique<Epetra_Vector>(map);
   rhs = std::make_unique<Epetra_Vector>(map);
@@ -318,6 +324,7 @@ void SparseFactorization::factorize_with_amesos(const std::string &method)
   parameters.set("MatrixProperty", std::string("symmetric"));
   solver->SetParameters(parameters);
   const bool analysed = solver->SymbolicFactorization() == 0;
+  base::probe_memory("MUMPS analysis done");
   if (auto *mumps = dynamic_cast<Amesos_Mumps *>(solver.get()); analysed && mumps)
     {
       // MUMPS's estimates from its analysis, on this process: its whole in-core factorisation

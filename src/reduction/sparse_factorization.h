@@ -23,7 +23,8 @@ class SparseFactorization
 public:
   /// Factorises A = K - sigma M (K and M share one sparsity pattern). @p method: "cholmod",
   /// "mumps" or "klu". The Cholesky path builds its input from K and M row by row, without an
-  /// assembled copy of A; the others keep a Trilinos copy of A. Throws SolverError if A is singular.
+  /// assembled copy of A; the others keep a Trilinos copy of A, except for sigma = 0, where they
+  /// read K itself, which must then outlive this object. Throws SolverError if A is singular.
   SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
                       const dealii::TrilinosWrappers::SparseMatrix &M, double sigma, const std::string &method);
   /// The Cholesky factor of K with the dofs of @p fixed held: their rows and columns left out but
@@ -64,7 +65,7 @@ public:
 private:
   // Members are destroyed in reverse order: the solver before the problem, vectors and matrix
   // it refers to.
-  dealii::TrilinosWrappers::SparseMatrix matrix; // A, for the Amesos solvers only
+  dealii::TrilinosWrappers::SparseMatrix matrix; // A, for the Amesos solvers only (empty for sigma = 0)
   std::unique_ptr<Epetra_LinearProblem> problem;
   std::unique_ptr<Epetra_Vector> lhs, rhs;
   std::unique_ptr<Amesos_BaseSolver> solver;
@@ -77,6 +78,7 @@ private:
                               const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,
                               const std::vector<bool> *fixed = nullptr,
                               const std::function<void()> &release = {});
-  void factorize_with_amesos(const std::string &method);
+  /// LDL^T (MUMPS) or LU (KLU) of @p a, which must outlive this object.
+  void factorize_with_amesos(const std::string &method, const dealii::TrilinosWrappers::SparseMatrix &a);
 };
 } // namespace flextrack::reduction
