@@ -681,7 +681,9 @@ void BodyModel::condense_matrices()
   K = CsrMatrix();
   M.to_trilinos_on_graph_of(stiffness, mass, own_begin);
   M = CsrMatrix();
-  base::release_free_heap(); // the passes' work space: the factorisation comes next
+  // Distributed: the passes' work space back to the system before the factorisation (one
+  // process reuses it for the clamped copies, and pays for fresh pages otherwise).
+  if (n_processes > 1) base::release_free_heap();
   base::probe_memory("body K and M condensed");
 }
 

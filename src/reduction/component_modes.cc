@@ -175,7 +175,7 @@ public:
                           several ? communicator : MPI_COMM_SELF, K_kept, M_kept);
         K_ptr = &K_kept;
         M_ptr = &M_kept;
-        base::release_free_heap(); // the copies' work space: the factorisation comes next
+        if (several) base::release_free_heap(); // the copies' work space, before MUMPS's analysis
         base::probe_memory("clamped K and M made");
       }
   }
