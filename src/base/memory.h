@@ -157,14 +157,22 @@ inline void check_memory_for(const std::string &what, const double bytes, const 
   m << what << " needs about " << per_process / GiB << " GiB per process with " << n_processes << " process"
     << (n_processes > 1 ? "es" : "") << " (" << need_here / GiB << " GiB on one machine, where the processes hold "
     << used_here / GiB << " GiB already), but only " << available / GiB << " GiB are available there; it was not started. ";
-  // A machine with one process has what this one has, plus what the others of it hold now.
-  const double room_for_one = available + used_here * (on_machine - 1) / on_machine;
-  const double machines = std::ceil(total / room_for_one);
+  // Advice from each process' footprint, what it holds plus what it needs, against what one
+  // machine like this gives FlexTrack's processes (available plus what they hold now): how many
+  // processes fit on one such machine, so how many machines the run needs.
+  const double machine = available + used_here;
+  const double footprint = (used_here + need_here) / on_machine;
+  const double fit = footprint > 0 ? std::floor(machine / footprint) : 0;
   if (use == MemoryUse::replicated && n_processes > 1)
     m << "Every process holds all of it: run fewer processes on each machine, or run ";
-  else if (use == MemoryUse::shared_factor && available > 0 && room_for_one > 1e-3 * total && machines > 1)
-    m << "It is about " << total / GiB << " GiB in all, which the processes share: run on about " << machines
-      << " machines like this one, one process on each (mpirun), or run ";
+  else if (use == MemoryUse::shared_factor && available > 0 && n_processes > 1 && fit >= 1 && fit < on_machine)
+    m << "Each process needs about " << footprint / GiB << " GiB in all, and a machine like this one holds "
+      << fit << " such process" << (fit > 1 ? "es" : "") << ": run on about " << std::ceil(n_processes / fit)
+      << " machines like this one, " << fit << " process" << (fit > 1 ? "es" : "") << " on each (mpirun), or run ";
+  else if (use == MemoryUse::shared_factor && available > 0 && machine > 1e-3 * total)
+    m << "It is about " << total / GiB << " GiB in all, which the processes share: run with more processes on about "
+      << std::max(2.0, std::ceil((total + used_here * n_processes / on_machine) / machine))
+      << " machines like this one (mpirun), or run ";
   else
     m << "Free memory on this machine, or run ";
   m << "on a machine with more memory, or with a coarser mesh (FLEXTRACK_MEMORY_LIMIT [GiB], if set, caps the "

@@ -85,8 +85,10 @@ def main():
                                  assemble=summary["wall_time_s"]["assemble body (K, M, ties)"], stages=stages)
         for name, r in results.items():
             if r["status"] != 0:
-                print(f"{size} {name}: refused (exit {r['status']}) after {r['wall']:.1f} s, peak {r['rss']:.0f} MiB "
-                      f"(the largest process): {r['message']}")
+                # /usr/bin/time measures mpirun itself under MPI: what the processes held is in the message.
+                held = re.search(r"where the processes hold ([0-9.e+-]+) GiB already", r["message"])
+                print(f"{size} {name}: refused (exit {r['status']}) after {r['wall']:.1f} s, the processes of the machine "
+                      f"holding {held.group(1) if held else '?'} GiB: {r['message']}")
                 continue
             print(f"{size} {name}: {r['dofs']} dofs, wall {r['wall']:.1f} s, peak per process "
                   f"{', '.join(f'{x:.0f}' for x in r['peaks'])} MiB ({sum(r['peaks']):.0f} in all), factor about "
@@ -105,8 +107,10 @@ def main():
                 print(f"| {size} | {1 if name == 'serial' else 2} | {r['dofs']} | {r['wall']:.1f} | "
                       f"{max(r['peaks']):.0f} | {sum(r['peaks']):.0f} | {r['factor']:.2f} |")
             else:
-                print(f"| {size} | {1 if name == 'serial' else 2} | - | refused after {r['wall']:.1f} | {r['rss']:.0f} | - | "
-                      f"see message |")
+                held = re.search(r"where the processes hold ([0-9.e+-]+) GiB already", r["message"])
+                need = re.search(r"needs about ([0-9.e+-]+) GiB per process", r["message"])
+                print(f"| {size} | {1 if name == 'serial' else 2} | - | refused after {r['wall']:.1f} | - | "
+                      f"{float(held.group(1)) * 1024:.0f} held when refused | {need.group(1) if need else '?'} |")
 
 
 if __name__ == "__main__":
