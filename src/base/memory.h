@@ -163,13 +163,17 @@ inline void check_memory_for(const std::string &what, const double bytes, const 
   const double machine = available + used_here;
   const double footprint = (used_here + need_here) / on_machine;
   const double fit = footprint > 0 ? std::floor(machine / footprint) : 0;
+  const double machines_for_one = available > 0 ? std::ceil(total / available) : 0; // one process: its share per machine
   if (use == MemoryUse::replicated && n_processes > 1)
     m << "Every process holds all of it: run fewer processes on each machine, or run ";
+  else if (use == MemoryUse::shared_factor && n_processes == 1 && available > 1e-3 * total && machines_for_one > 1)
+    m << "It is about " << total / GiB << " GiB; under MPI the processes share it: run on about " << machines_for_one
+      << " machines like this one, one process on each (mpirun), or run ";
   else if (use == MemoryUse::shared_factor && available > 0 && n_processes > 1 && fit >= 1 && fit < on_machine)
     m << "Each process needs about " << footprint / GiB << " GiB in all, and a machine like this one holds "
       << fit << " such process" << (fit > 1 ? "es" : "") << ": run on about " << std::ceil(n_processes / fit)
       << " machines like this one, " << fit << " process" << (fit > 1 ? "es" : "") << " on each (mpirun), or run ";
-  else if (use == MemoryUse::shared_factor && available > 0 && machine > 1e-3 * total)
+  else if (use == MemoryUse::shared_factor && n_processes > 1 && available > 1e-3 * total)
     m << "It is about " << total / GiB << " GiB in all, which the processes share: run with more processes on about "
       << std::max(2.0, std::ceil((total + used_here * n_processes / on_machine) / machine))
       << " machines like this one (mpirun), or run ";

@@ -58,31 +58,39 @@ void own_rows_multiply(const Epetra_CrsMatrix &A, const double *x, const std::si
     }
 }
 
-/// Sends @p outgoing[p] to process p (for every p) and returns what the others sent here, one
-/// after the other in the order of their ranks.
-std::vector<double> send_to_owners(const std::vector<std::vector<double>> &outgoing, const MPI_Comm comm)
+/// Sends @p outgoing[p] to process p (for every p; emptied here) and returns what the others
+/// sent here, one after the other in the order of their ranks. Collective over @p comm.
+std::vector<double> send_to_owners(std::vector<std::vector<double>> &outgoing, const MPI_Comm comm)
 {
   const std::size_t n = outgoing.size();
+  constexpr std::size_t limit = std::numeric_limits<int>::max();
   std::vector<int> send_counts(n), receive_counts(n), send_offsets(n, 0), receive_offsets(n, 0);
-  for (std::size_t p = 0; p < n; ++p)
-    {
-      AssertThrow(outgoing[p].size() < (1u << 30), ExcMessage("too many contributions for one MPI message"));
-      send_counts[p] = static_cast<int>(outgoing[p].size());
-    }
-  MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm);
+  std::size_t send_total = 0;
+  for (std::size_t p = 0; p < n; ++p) send_total += outgoing[p].size();
+  // Decided on every process alike, so that none throws while the others wait in a collective.
+  const auto too_many = [&](const std::size_t here) {
+    AssertThrow(Utilities::MPI::max(static_cast<double>(here), comm) < static_cast<double>(limit),
+                ExcMessage("the tie regions of this body send too many entries between processes for one MPI "
+                           "message; run with fewer processes"));
+  };
+  too_many(send_total);
   std::vector<double> send;
+  send.reserve(send_total);
   for (std::size_t p = 0; p < n; ++p)
     {
+      send_counts[p] = static_cast<int>(outgoing[p].size());
       send_offsets[p] = static_cast<int>(send.size());
       send.insert(send.end(), outgoing[p].begin(), outgoing[p].end());
+      std::vector<double>().swap(outgoing[p]);
     }
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm);
   std::size_t total = 0;
   for (std::size_t p = 0; p < n; ++p)
     {
-      receive_offsets[p] = static_cast<int>(total);
+      receive_offsets[p] = static_cast<int>(std::min(total, limit));
       total += receive_counts[p];
     }
-  AssertThrow(total < (1u << 30), ExcMessage("too many contributions for one MPI message"));
+  too_many(total);
   std::vector<double> received(total);
   MPI_Alltoallv(send.data(), send_counts.data(), send_offsets.data(), MPI_DOUBLE, received.data(),
                 receive_counts.data(), receive_offsets.data(), MPI_DOUBLE, comm);

@@ -169,6 +169,13 @@ public:
     first_row = std::lower_bound(kept.begin(), kept.end(), begin) - kept.begin();
     n_rows = (std::lower_bound(kept.begin(), kept.end(), end) - kept.begin()) - first_row;
     several = body.distributed();
+    // PARPACK and MUMPS need rows on every process. A body too small for its processes (a
+    // block of rows all clamped, a part of the solid without free dofs) is refused on all of
+    // them alike, before any of them starts.
+    if (several && Utilities::MPI::min(n_rows, communicator) == 0)
+      throw SolverError("the body is too small for " + std::to_string(Utilities::MPI::n_mpi_processes(communicator)) +
+                        " processes: one of them holds none of its free degrees of freedom (" + std::to_string(n) +
+                        " in all); reduce it with fewer processes (mpirun -np) or serially");
     if (!clamped.empty())
       {
         restrict_matrices(body.stiffness_matrix(), body.mass_matrix(), keep, n, first_row, n_rows,

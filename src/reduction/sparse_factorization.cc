@@ -85,8 +85,9 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
     return;
   if (out_of_memory) throw out_of_memory_error(K.m()); // MUMPS would need more
   // Not positive definite (a positive shift), or another method asked for: LDL^T or LU. With
-  // sigma = 0 (the clamped body of a distributed reduction) A is K itself: no copy, which would
-  // be one more matrix the size of K on every process, beside the factor.
+  // sigma = 0 (a distributed reduction's body, clamped or not) A is K itself: no copy, which
+  // would be one more matrix the size of K on every process, beside the factor; K must then
+  // outlive this object (the header says so).
   if (sigma != 0)
     {
       matrix.copy_from(K);
