@@ -747,23 +747,6 @@ void BodyModel::full_mass_multiply(const double *X, const unsigned int m, double
 {
   const std::size_t size = static_cast<std::size_t>(n_full) * m;
   std::fill(Y, Y + size, 0.0);
-  if (distributed())
-    {
-      // Each process computes the solid's rows it owns, the last one also the arms and point
-      // masses; every row is computed once, so a sum over the processes gathers them.
-      if (solid) own_rows_multiply(solid->mass_matrix().trilinos_matrix(), X, n_full, m, Y, n_full);
-      if (holds_arms())
-        {
-          for (unsigned int a = 0; a < arm_models.size(); ++a)
-            own_rows_multiply(arm_models[a]->mass_matrix().trilinos_matrix(), X + arm_offsets[a], n_full, m,
-                              Y + arm_offsets[a], n_full);
-          add_point_masses_product(X, m, Y);
-        }
-      for (std::size_t begin = 0; begin < size; begin += 1u << 28)
-        MPI_Allreduce(MPI_IN_PLACE, Y + begin, static_cast<int>(std::min<std::size_t>(size - begin, 1u << 28)),
-                      MPI_DOUBLE, MPI_SUM, comm);
-      return;
-    }
   auto part = [&](const TrilinosWrappers::SparseMatrix &M, const unsigned int offset) {
     const Epetra_CrsMatrix &A = M.trilinos_matrix();
     // Views of the part's rows of X and Y (leading dimension n_full).
@@ -771,9 +754,24 @@ void BodyModel::full_mass_multiply(const double *X, const unsigned int m, double
     Epetra_MultiVector y(View, A.RangeMap(), Y + offset, n_full, m);
     AssertThrow(A.Multiply(false, x, y) == 0, ExcMessage("Epetra multiply failed"));
   };
-  if (solid) part(solid->mass_matrix(), 0);
-  for (unsigned int a = 0; a < arm_models.size(); ++a) part(arm_models[a]->mass_matrix(), arm_offsets[a]);
-  add_point_masses_product(X, m, Y);
+  // Distributed: each process computes the solid's rows it owns, the last one also the arms and
+  // point masses; every row is computed once, so a sum over the processes gathers them.
+  if (solid)
+    {
+      if (distributed())
+        own_rows_multiply(solid->mass_matrix().trilinos_matrix(), X, n_full, m, Y, n_full);
+      else
+        part(solid->mass_matrix(), 0);
+    }
+  if (holds_arms())
+    {
+      for (unsigned int a = 0; a < arm_models.size(); ++a) part(arm_models[a]->mass_matrix(), arm_offsets[a]);
+      add_point_masses_product(X, m, Y);
+    }
+  if (distributed())
+    for (std::size_t begin = 0; begin < size; begin += 1u << 28)
+      MPI_Allreduce(MPI_IN_PLACE, Y + begin, static_cast<int>(std::min<std::size_t>(size - begin, 1u << 28)),
+                    MPI_DOUBLE, MPI_SUM, comm);
 }
 
 void BodyModel::add_point_masses_product(const double *X, const unsigned int m, double *Y) const

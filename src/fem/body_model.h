@@ -16,9 +16,10 @@
 // process holds the mesh, the nodes and T whole, but only its own rows of the matrices. The
 // solid is partitioned by METIS (SolidModel); a process owns the condensed rows of the
 // independent dofs of its part of the solid, the last process also those of the arms and the
-// interface points (a body of arms only: equal blocks of rows, condensed by the last process). Each assembles its own cells and condenses its own rows of the parts; the
-// few contributions that land in another process' rows (tie regions to their masters, an arm
-// root to its region) are sent there. Vectors stay whole on every process: products with the
+// interface points (a body of arms only: equal blocks of rows, condensed by the last
+// process). Each assembles its own cells and condenses its own rows of the parts; the few
+// contributions that land in another process' rows (tie regions to their masters, an arm root
+// to its region) are sent there. Vectors stay whole on every process: products with the
 // matrices compute the own rows and gather them.
 #pragma once
 
