@@ -39,7 +39,8 @@ void ModalSettings::declare_parameters(ParameterHandler &prm)
   prm.declare_entry("Direct solver", "auto", Patterns::Selection("auto|cholmod|mumps|klu"),
                     "Sparse direct solver that factorises K - sigma M: 'cholmod' (supernodal Cholesky, "
                     "SuiteSparse; falls back to 'mumps' when K - sigma M is not positive definite), 'mumps' "
-                    "(Trilinos Amesos, symmetric LDL^T), 'klu' (Trilinos Amesos, LU). 'auto' = cholmod.");
+                    "(MUMPS, symmetric indefinite LDL^T; on several processes under MPI), 'klu' (Trilinos Amesos, LU). "
+                    "'auto' = cholmod.");
   prm.declare_entry("Participation reference point", "0, 0, 0", Patterns::List(Patterns::Double(), 3, 3, ","),
                     "modes: the point x, y, z [m] through which the axes of the rotational participation "
                     "factors and effective masses (rx, ry, rz) pass; each coordinate at most 1e9 m in size.");

@@ -2,12 +2,12 @@
 #include <base/memory.h>
 #include <base/solver_error.h>
 #include <reduction/modal_solver.h>
+#include <reduction/mumps_factor.h>
 #include <reduction/sparse_factorization.h>
 #include <reduction/supernode_width.h>
 
 #include <Amesos.h>
 #include <Amesos_BaseSolver.h>
-#include <Amesos_Mumps.h>
 #include <Epetra_CrsMatrix.h>
 #include <Epetra_LinearProblem.h>
 #include <Epetra_MpiComm.h>
@@ -93,7 +93,10 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
       matrix.copy_from(K);
       matrix.add(-sigma, M);
     }
-  factorize_with_amesos(method == "klu" ? "klu" : "mumps", sigma != 0 ? matrix : K);
+  if (method == "klu")
+    factorize_with_klu(sigma != 0 ? matrix : K);
+  else
+    factorize_with_mumps(sigma != 0 ? matrix : K);
 }
 
 SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
@@ -307,7 +310,7 @@ bool SparseFactorization::factorize_with_cholmod(const dealii::TrilinosWrappers:
   return true;
 }
 
-void SparseFactorization::factorize_with_amesos(const std::string &method, const dealii::TrilinosWrappers::SparseMatrix &a)
+void SparseFactorization::factorize_with_klu(const dealii::TrilinosWrappers::SparseMatrix &a)
 {
   // Amesos takes a non-const matrix; it only reads it.
   Epetra_CrsMatrix &A = const_cast<Epetra_CrsMatrix &>(a.trilinos_matrix());
@@ -316,41 +319,35 @@ void SparseFactorization::factorize_with_amesos(const std::string &method, const
   rhs = std::make_unique<Epetra_Vector>(map);
   problem = std::make_unique<Epetra_LinearProblem>(&A, lhs.get(), rhs.get());
   Amesos factory;
-  const char *name = method == "mumps" ? "Amesos_Mumps" : "Amesos_Klu";
-  solver.reset(factory.Create(name, *problem));
-  if (!solver)
-    throw SolverError(std::string("the sparse direct solver ") + name + " is not available in this Trilinos");
-  Teuchos::ParameterList parameters;
-  // The matrices here are symmetric: MUMPS then uses LDL^T, half the work and memory of LU.
-  parameters.set("MatrixProperty", std::string("symmetric"));
-  solver->SetParameters(parameters);
+  solver.reset(factory.Create("Amesos_Klu", *problem));
+  if (!solver) throw SolverError("the sparse direct solver Amesos_Klu is not available in this Trilinos");
   const bool analysed = solver->SymbolicFactorization() == 0;
-  base::probe_memory("MUMPS analysis done");
-  if (auto *mumps = dynamic_cast<Amesos_Mumps *>(solver.get()); analysed && mumps)
-    {
-      // MUMPS's estimates from its analysis, on this process: its whole in-core factorisation
-      // (INFO(15), in millions of bytes, rounded: 0 for a small matrix) and the factor's reals
-      // and integers (INFO(3), INFO(4); a negative value counts millions). Every process of the
-      // matrix checks its machine.
-      const int *info = mumps->GetINFO();
-      auto count = [](const int v) { return v < 0 ? -1e6 * v : static_cast<double>(v); };
-      estimated_bytes = std::max(1e6 * info[14], 8 * count(info[2]) + 4 * count(info[3]));
-      resident_before = base::resident_bytes();
-      const MPI_Comm communicator = dynamic_cast<const Epetra_MpiComm &>(A.Comm()).Comm();
-      base::check_memory_for("the LDL^T factorisation (MUMPS) of the " + std::to_string(A.NumGlobalRows()) +
-                               "-dof matrix",
-                             estimated_bytes, &communicator);
-    }
   if (!analysed || solver->NumericFactorization() != 0)
     throw SolverError("the matrix could not be factorised: it is singular (a shift equal to an eigenvalue, or a "
                       "structure with a mechanism); change 'Modal analysis/Shift' or the supports");
+}
+
+void SparseFactorization::factorize_with_mumps(const dealii::TrilinosWrappers::SparseMatrix &a)
+{
+  const Epetra_CrsMatrix &A = a.trilinos_matrix();
+  mumps = std::make_unique<MumpsFactor>(A);
+  base::probe_memory("MUMPS analysis done");
+  // MUMPS's estimate from its analysis, on this process; every process of the matrix checks its
+  // machine before the factorisation is started.
+  estimated_bytes = mumps->estimated_bytes();
+  resident_before = base::resident_bytes();
+  const MPI_Comm communicator = dynamic_cast<const Epetra_MpiComm &>(A.Comm()).Comm();
+  base::check_memory_for("the LDL^T factorisation (MUMPS) of the " + std::to_string(A.NumGlobalRows64()) +
+                           "-dof matrix",
+                         estimated_bytes, &communicator);
+  mumps->factorize();
 }
 
 SparseFactorization::~SparseFactorization() = default;
 
 void SparseFactorization::solve(const double *b, double *x) const
 {
-  if (cholmod)
+  if (cholmod || mumps)
     {
       solve_many(b, x, 1);
       return;
@@ -380,6 +377,11 @@ void SparseFactorization::solve_upper(const double *Y, double *X, const unsigned
 
 void SparseFactorization::solve_many(const double *B, double *X, const unsigned int k) const
 {
+  if (mumps)
+    {
+      mumps->solve_many(B, X, k);
+      return;
+    }
   if (!cholmod)
     {
       const std::size_t n = rhs->MyLength();

@@ -2,7 +2,8 @@
 // shift-invert operator). Methods:
 //  - "cholmod": supernodal Cholesky (SuiteSparse CHOLMOD) for positive definite matrices, the
 //    case of every negative shift; if the matrix is not positive definite it falls back to MUMPS;
-//  - "mumps": Trilinos Amesos MUMPS in symmetric mode (LDL^T, multifrontal), any symmetric matrix;
+//  - "mumps": MUMPS's LDL^T (multifrontal, symmetric indefinite; reduction/mumps_factor.h), any
+//    symmetric matrix, on the processes of the matrix;
 //  - "klu": Trilinos Amesos KLU (LU), fine for small banded matrices.
 #pragma once
 
@@ -13,6 +14,10 @@
 #include <string>
 
 class Amesos_BaseSolver;
+namespace flextrack::reduction
+{
+class MumpsFactor;
+}
 class Epetra_LinearProblem;
 class Epetra_Vector;
 
@@ -65,10 +70,11 @@ public:
 private:
   // Members are destroyed in reverse order: the solver before the problem, vectors and matrix
   // it refers to.
-  dealii::TrilinosWrappers::SparseMatrix matrix; // A, for the Amesos solvers only (empty for sigma = 0)
+  dealii::TrilinosWrappers::SparseMatrix matrix; // A, for MUMPS and KLU only (empty for sigma = 0)
   std::unique_ptr<Epetra_LinearProblem> problem;
   std::unique_ptr<Epetra_Vector> lhs, rhs;
-  std::unique_ptr<Amesos_BaseSolver> solver;
+  std::unique_ptr<Amesos_BaseSolver> solver; // KLU
+  std::unique_ptr<MumpsFactor> mumps;
   struct Cholmod;
   std::unique_ptr<Cholmod> cholmod;
   bool out_of_memory = false; ///< why the last Cholesky factorisation failed, if it did
@@ -78,7 +84,9 @@ private:
                               const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,
                               const std::vector<bool> *fixed = nullptr,
                               const std::function<void()> &release = {});
-  /// LDL^T (MUMPS) or LU (KLU) of @p a, which must outlive this object.
-  void factorize_with_amesos(const std::string &method, const dealii::TrilinosWrappers::SparseMatrix &a);
+  /// LU of @p a by KLU (Trilinos Amesos); @p a must outlive this object.
+  void factorize_with_klu(const dealii::TrilinosWrappers::SparseMatrix &a);
+  /// LDL^T of @p a by MUMPS, after a memory check on every process of @p a.
+  void factorize_with_mumps(const dealii::TrilinosWrappers::SparseMatrix &a);
 };
 } // namespace flextrack::reduction
