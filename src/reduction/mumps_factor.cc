@@ -188,6 +188,11 @@ unsigned int MumpsFactor::n_local_rows() const
   return instance->n_rows;
 }
 
+int MumpsFactor::negative_pivots() const
+{
+  return instance->id.infog[11];
+}
+
 std::string MumpsFactor::ordering() const
 {
   switch (instance->id.infog[6])

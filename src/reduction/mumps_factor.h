@@ -37,6 +37,11 @@ public:
   void solve_many(const double *B, double *X, unsigned int k) const;
   /// The number of A's rows on this process.
   unsigned int n_local_rows() const;
+  /// The number of negative pivots of the LDL^T factor (INFOG(12)): by Sylvester's law of
+  /// inertia, the number of negative eigenvalues of A, for A = K - sigma M the number of
+  /// eigenvalues of (K, M) below sigma. Exact on one process; on several, MUMPS does not count
+  /// the pivots of a root front that ScaLAPACK factorises.
+  int negative_pivots() const;
   /// The ordering MUMPS used (INFOG(7)), for the log: "PORD", "AMF", ...
   std::string ordering() const;
 
