@@ -143,8 +143,18 @@ void MumpsFactor::factorize()
 
 void MumpsFactor::solve_many(const double *B, double *X, const unsigned int k) const
 {
+  // The host holds two dense copies of the columns it solves at once: at most 2^24 numbers each
+  // (128 MiB), which also keeps MPI's int counts in range.
+  const unsigned int n_global = instance->id.n > 0 ? instance->id.n : 1;
+  const unsigned int chunk = std::max(1u, (1u << 24) / n_global);
+  const std::size_t m = instance->n_rows;
+  for (unsigned int first = 0; first < k; first += chunk)
+    solve_columns(B + first * m, X + first * m, std::min(chunk, k - first));
+}
+
+void MumpsFactor::solve_columns(const double *B, double *X, const unsigned int k) const
+{
   const Instance &m = *instance;
-  if (k == 0) return;
   // MUMPS takes dense right-hand sides on the host (ICNTL(20) = 0) and puts the solutions there
   // (ICNTL(21) = 0): each process' k columns are gathered there in one message, put in the
   // global order, solved together, and sent back the same way.
@@ -181,11 +191,6 @@ void MumpsFactor::solve_many(const double *B, double *X, const unsigned int k) c
   if (m.host) each_entry([&](const std::size_t to, const std::size_t from) { m.gathered[to] = m.dense[from]; });
   MPI_Scatterv(m.gathered.data(), counts_k.data(), firsts_k.data(), MPI_DOUBLE, X, static_cast<int>(m.n_rows * k),
                MPI_DOUBLE, 0, m.communicator);
-}
-
-unsigned int MumpsFactor::n_local_rows() const
-{
-  return instance->n_rows;
 }
 
 int MumpsFactor::negative_pivots() const

@@ -35,8 +35,6 @@ public:
   /// map's order) and stored one after the other. Collective: every process calls it with the
   /// same k.
   void solve_many(const double *B, double *X, unsigned int k) const;
-  /// The number of A's rows on this process.
-  unsigned int n_local_rows() const;
   /// The number of negative pivots of the LDL^T factor (INFOG(12)): by Sylvester's law of
   /// inertia, the number of negative eigenvalues of A, for A = K - sigma M the number of
   /// eigenvalues of (K, M) below sigma. Exact on one process; on several, MUMPS does not count
@@ -46,6 +44,8 @@ public:
   std::string ordering() const;
 
 private:
+  /// solve_many for at most as many columns as the host's buffers are sized for.
+  void solve_columns(const double *B, double *X, unsigned int k) const;
   struct Instance;
   std::unique_ptr<Instance> instance;
 };
