@@ -169,7 +169,7 @@ public:
     first_row = std::lower_bound(kept.begin(), kept.end(), begin) - kept.begin();
     n_rows = (std::lower_bound(kept.begin(), kept.end(), end) - kept.begin()) - first_row;
     several = body.distributed();
-    // PARPACK and MUMPS need rows on every process. A body too small for its processes (a
+    // PARPACK needs rows on every process. A body too small for its processes (a
     // block of rows all clamped, a part of the solid without free dofs) is refused on all of
     // them alike, before any of them starts.
     if (several && Utilities::MPI::min(n_rows, communicator) == 0)

@@ -336,12 +336,12 @@ Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappe
 
 Modes lowest_modes(const TrilinosWrappers::SparseMatrix &K, const TrilinosWrappers::SparseMatrix &M,
                    const unsigned int n_free, const ModalSettings &settings, const double shift,
-                   const std::string &amesos_solver)
+                   const std::string &direct_solver)
 {
   check_number_of_modes(settings, n_free);
   // Factorise A = K - sigma M once (CHOLMOD is serial: in parallel MUMPS does the work).
   const bool parallel = Utilities::MPI::n_mpi_processes(K.get_mpi_communicator()) > 1;
-  const SparseFactorization factorization(K, M, shift, parallel && amesos_solver == "cholmod" ? "mumps" : amesos_solver);
+  const SparseFactorization factorization(K, M, shift, parallel && direct_solver == "cholmod" ? "mumps" : direct_solver);
   return lowest_modes(K, M, n_free, settings, shift, factorization);
 }
 

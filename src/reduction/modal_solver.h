@@ -51,11 +51,11 @@ struct Modes
 };
 
 /// @p n_free: number of unconstrained dofs (at most that many finite modes exist);
-/// @p shift: sigma, must not be an eigenvalue; @p amesos_solver (the direct solver): "cholmod",
+/// @p shift: sigma, must not be an eigenvalue; @p direct_solver: "cholmod",
 /// "mumps" or "klu".
 Modes lowest_modes(const dealii::TrilinosWrappers::SparseMatrix &K,
                    const dealii::TrilinosWrappers::SparseMatrix &M, unsigned int n_free,
-                   const ModalSettings &settings, double shift, const std::string &amesos_solver);
+                   const ModalSettings &settings, double shift, const std::string &direct_solver);
 
 class SparseFactorization;
 /// The same with a factorisation of K - shift M that the caller keeps (e.g. for static solves

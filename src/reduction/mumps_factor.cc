@@ -22,26 +22,43 @@ struct MumpsFactor::Instance
   std::vector<double> values;      // its entries
   std::vector<int> counts, firsts; // host: each process' number of rows and first in all_rows
   std::vector<int> all_rows;       // host: the global rows of every process, process by process
+  std::size_t host_numbers = 0;    // the most numbers the host's dense buffers take at once
+  bool factorized = false;
   mutable std::vector<double> gathered, dense;
 
-  /// Runs MUMPS's phase @p job and turns a MUMPS error (INFOG(1) < 0, the same on every
-  /// process) into a SolverError that says what it was doing.
-  void call(const int job, const char *what) const
+  /// Runs MUMPS's phase @p job; returns INFOG(1) (< 0: an error, the same on every process).
+  int run(const int job) const
   {
     id.job = job;
     dmumps_c(&id);
-    const int error = id.infog[0], detail = id.infog[1];
-    if (error >= 0) return;
-    std::string message = std::string("MUMPS failed in its ") + what + " (INFOG(1) = " + std::to_string(error) +
+    return id.infog[0];
+  }
+
+  /// Runs MUMPS's phase @p job and turns a MUMPS error into a SolverError that says what it was
+  /// doing.
+  void call(const int job, const char *what) const
+  {
+    if (run(job) >= 0) return;
+    throw error(what);
+  }
+
+  /// The SolverError for the last phase's INFOG(1) < 0, with what to change.
+  SolverError error(const char *what) const
+  {
+    const int code = id.infog[0], detail = id.infog[1];
+    std::string message = std::string("MUMPS failed in its ") + what + " (INFOG(1) = " + std::to_string(code) +
                           ", INFOG(2) = " + std::to_string(detail) + "): ";
-    if (error == -10)
+    if (code == -10)
       message += "the matrix is singular (a shift equal to an eigenvalue, or a structure with a mechanism); "
                  "change 'Modal analysis/Shift' or the supports";
-    else if (error == -9 || error == -8 || error == -13 || error == -14 || error == -19)
+    else if (code == -13 || code == -19)
       message += "it ran out of memory; run on more processes or machines, or use a coarser mesh";
+    else if (code == -8 || code == -9 || code == -14)
+      message += "its work space was too small even after enlarging it (delayed pivots of an indefinite matrix); "
+                 "change 'Modal analysis/Shift'";
     else
       message += "see the MUMPS user guide for this code";
-    throw SolverError(message);
+    return SolverError(message);
   }
 
   ~Instance()
@@ -54,9 +71,11 @@ struct MumpsFactor::Instance
   }
 };
 
-MumpsFactor::MumpsFactor(const Epetra_CrsMatrix &A) : instance(std::make_unique<Instance>())
+MumpsFactor::MumpsFactor(const Epetra_CrsMatrix &A, const std::size_t host_numbers)
+  : instance(std::make_unique<Instance>())
 {
   Instance &m = *instance;
+  m.host_numbers = std::max<std::size_t>(host_numbers, 1);
   m.communicator = dynamic_cast<const Epetra_MpiComm &>(A.Comm()).Comm();
   int rank = 0, size = 1;
   MPI_Comm_rank(m.communicator, &rank);
@@ -74,7 +93,8 @@ MumpsFactor::MumpsFactor(const Epetra_CrsMatrix &A) : instance(std::make_unique<
       int n_entries = 0;
       double *entries = nullptr;
       int *columns = nullptr;
-      A.ExtractMyRowView(i, n_entries, entries, columns);
+      if (A.ExtractMyRowView(i, n_entries, entries, columns) != 0)
+        throw SolverError("MUMPS: row " + std::to_string(row) + " of the matrix could not be read");
       for (int e = 0; e < n_entries; ++e)
         {
           const long long column = A.GCID64(columns[e]);
@@ -106,6 +126,8 @@ MumpsFactor::MumpsFactor(const Epetra_CrsMatrix &A) : instance(std::make_unique<
   m.id.icntl[1] = -1; // no diagnostics
   m.id.icntl[2] = -1; // no global information
   m.id.icntl[3] = 0;
+  m.id.icntl[9] = 0;  // ICNTL(10) = 0: no iterative refinement, and
+  m.id.icntl[10] = 0; // ICNTL(11) = 0: no error analysis; the solves then need only the factor
   m.id.icntl[17] = 3; // ICNTL(18) = 3: the matrix is given distributed, each process its triplets
   m.id.icntl[27] = 1; // ICNTL(28) = 1: sequential analysis (Debian's MUMPS has no parallel ordering)
   m.id.n = static_cast<MUMPS_INT>(A.NumGlobalRows64());
@@ -131,7 +153,18 @@ double MumpsFactor::estimated_bytes() const
 void MumpsFactor::factorize()
 {
   Instance &m = *instance;
-  m.call(2, "factorisation");
+  if (m.factorized) throw SolverError("MUMPS: the matrix was factorised already (its entries are freed)");
+  // An indefinite matrix may delay pivots beyond the work space the analysis foresaw (INFOG(1)
+  // = -8 or -9, -14 for integers): enlarged by ICNTL(14) percent, up to three times, as the
+  // MUMPS user guide advises. The matrix's entries are still here for another try.
+  for (int attempt = 0;; ++attempt)
+    {
+      const int status = m.run(2);
+      if (status >= 0) break;
+      if ((status != -8 && status != -9 && status != -14) || attempt == 3) throw m.error("factorisation");
+      m.id.icntl[13] = std::max(2 * m.id.icntl[13], 40); // ICNTL(14): the work space's relaxation [%]
+    }
+  m.factorized = true;
   // The solves need only the factor (no iterative refinement, no error analysis): the triplets,
   // a copy of half the matrix, are given back.
   m.id.irn_loc = m.id.jcn_loc = nullptr;
@@ -145,8 +178,8 @@ void MumpsFactor::solve_many(const double *B, double *X, const unsigned int k) c
 {
   // The host holds two dense copies of the columns it solves at once: at most 2^24 numbers each
   // (128 MiB), which also keeps MPI's int counts in range.
-  const unsigned int n_global = instance->id.n > 0 ? instance->id.n : 1;
-  const unsigned int chunk = std::max(1u, (1u << 24) / n_global);
+  const std::size_t n_global = instance->id.n > 0 ? instance->id.n : 1;
+  const auto chunk = static_cast<unsigned int>(std::clamp<std::size_t>(instance->host_numbers / n_global, 1, INT_MAX / n_global));
   const std::size_t m = instance->n_rows;
   for (unsigned int first = 0; first < k; first += chunk)
     solve_columns(B + first * m, X + first * m, std::min(chunk, k - first));
@@ -191,6 +224,11 @@ void MumpsFactor::solve_columns(const double *B, double *X, const unsigned int k
   if (m.host) each_entry([&](const std::size_t to, const std::size_t from) { m.gathered[to] = m.dense[from]; });
   MPI_Scatterv(m.gathered.data(), counts_k.data(), firsts_k.data(), MPI_DOUBLE, X, static_cast<int>(m.n_rows * k),
                MPI_DOUBLE, 0, m.communicator);
+  if (k > 1) // the buffers of one column stay for the eigen solve's many single solves
+    {
+      std::vector<double>().swap(m.gathered);
+      std::vector<double>().swap(m.dense);
+    }
 }
 
 int MumpsFactor::negative_pivots() const

@@ -9,6 +9,7 @@
 // freed once the factor is made.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -20,16 +21,18 @@ class MumpsFactor
 {
 public:
   /// Analyses @p A (symmetric, rows distributed as its row map says): the ordering and the
-  /// factor's size. Collective on A's communicator. SolverError if MUMPS fails.
-  explicit MumpsFactor(const Epetra_CrsMatrix &A);
+  /// factor's size. Collective on A's communicator. SolverError if MUMPS fails. The solves
+  /// gather at most @p host_numbers right-hand side entries on the first process at a time
+  /// (2^24: two buffers of 128 MiB there).
+  explicit MumpsFactor(const Epetra_CrsMatrix &A, std::size_t host_numbers = std::size_t(1) << 24);
   ~MumpsFactor();
   MumpsFactor(const MumpsFactor &) = delete;
   MumpsFactor &operator=(const MumpsFactor &) = delete;
 
   /// This process' memory for the factorisation in core, from the analysis [bytes].
   double estimated_bytes() const;
-  /// The numerical factorisation (collective). SolverError if A is singular or MUMPS runs out
-  /// of memory.
+  /// The numerical factorisation (collective), once; A is not read afterwards. SolverError if A
+  /// is singular or MUMPS runs out of memory.
   void factorize();
   /// X = A^{-1} B for @p k right-hand sides, each given as this process' rows of A (in the row
   /// map's order) and stored one after the other. Collective: every process calls it with the

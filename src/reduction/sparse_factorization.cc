@@ -12,7 +12,6 @@
 #include <Epetra_LinearProblem.h>
 #include <Epetra_MpiComm.h>
 #include <Epetra_Vector.h>
-#include <Teuchos_ParameterList.hpp>
 #include <cholmod.h>
 
 #include <algorithm>
@@ -96,7 +95,10 @@ SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseM
   if (method == "klu")
     factorize_with_klu(sigma != 0 ? matrix : K);
   else
-    factorize_with_mumps(sigma != 0 ? matrix : K);
+    {
+      factorize_with_mumps(sigma != 0 ? matrix : K);
+      matrix.clear(); // MUMPS holds its factor and does not read A again
+    }
 }
 
 SparseFactorization::SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,

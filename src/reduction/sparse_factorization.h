@@ -28,8 +28,9 @@ class SparseFactorization
 public:
   /// Factorises A = K - sigma M (K and M share one sparsity pattern). @p method: "cholmod",
   /// "mumps" or "klu". The Cholesky path builds its input from K and M row by row, without an
-  /// assembled copy of A; the others keep a Trilinos copy of A, except for sigma = 0, where they
-  /// read K itself, which must then outlive this object. Throws SolverError if A is singular.
+  /// assembled copy of A. MUMPS reads a Trilinos copy of A (K itself for sigma = 0) until it
+  /// has factorised it; KLU keeps that copy, or reads K, which must then outlive this object.
+  /// Throws SolverError if A is singular.
   SparseFactorization(const dealii::TrilinosWrappers::SparseMatrix &K,
                       const dealii::TrilinosWrappers::SparseMatrix &M, double sigma, const std::string &method);
   /// The Cholesky factor of K with the dofs of @p fixed held: their rows and columns left out but
@@ -45,10 +46,11 @@ public:
                       const dealii::TrilinosWrappers::SparseMatrix &M, double sigma,
                       const std::function<void()> &release);
   ~SparseFactorization();
-  /// x = A^{-1} b for arrays of A.m() entries.
+  /// x = A^{-1} b for arrays of this process' rows of A (all of A.m() on one process).
   void solve(const double *b, double *x) const;
-  /// X = A^{-1} B for @p k right-hand sides stored column by column (A.m() entries each); the
-  /// Cholesky path solves them together (level-3 BLAS), several times faster than one by one.
+  /// X = A^{-1} B for @p k right-hand sides stored column by column (this process' rows of A
+  /// each); CHOLMOD and MUMPS solve them together (level-3 BLAS), several times faster than one
+  /// by one.
   void solve_many(const double *B, double *X, unsigned int k) const;
 
   /// Whether A = P^T L L^T P is available in its halves (a supernodal Cholesky factor, which
@@ -70,7 +72,7 @@ public:
 private:
   // Members are destroyed in reverse order: the solver before the problem, vectors and matrix
   // it refers to.
-  dealii::TrilinosWrappers::SparseMatrix matrix; // A, for MUMPS and KLU only (empty for sigma = 0)
+  dealii::TrilinosWrappers::SparseMatrix matrix; // A for KLU (empty for sigma = 0, and after MUMPS)
   std::unique_ptr<Epetra_LinearProblem> problem;
   std::unique_ptr<Epetra_Vector> lhs, rhs;
   std::unique_ptr<Amesos_BaseSolver> solver; // KLU

@@ -39,7 +39,9 @@ TEST(MumpsFactor, solves_an_indefinite_shifted_matrix_and_counts_the_eigenvalues
   A.copy_from(K);
   A.add(-sigma, M);
 
-  reduction::MumpsFactor factor(A.trilinos_matrix());
+  // The host's buffers limited to two columns: three right-hand sides go in two solves.
+  const unsigned int n = A.m(), k = 3;
+  reduction::MumpsFactor factor(A.trilinos_matrix(), 2 * n);
   factor.factorize();
   // Sylvester's law of inertia: as many negative pivots as eigenvalues below sigma (the clamped
   // dofs carry no mass and add none).
@@ -47,10 +49,9 @@ TEST(MumpsFactor, solves_an_indefinite_shifted_matrix_and_counts_the_eigenvalues
             << " negative pivots, ordering " << factor.ordering() << '\n';
   EXPECT_EQ(factor.negative_pivots(), static_cast<int>(below));
 
-  // Three right-hand sides b = A x0 solved together, and one alone: the backward error
+  // Three right-hand sides b = A x0 solved in two blocks, and one alone: the backward error
   // |A x - b| / (|A|_F |x|) at round-off (1e-13: a backward-stable LDL^T with pivoting gives
   // a small multiple of the machine epsilon 2.2e-16), and the block solve equal to the single one.
-  const unsigned int n = A.m(), k = 3;
   std::vector<double> x0(n * k), B(n * k), X(n * k), x_single(n);
   for (unsigned int i = 0; i < n * k; ++i) x0[i] = std::sin(0.37 * i + 0.1) + (i % 7 == 0 ? 1.0 : 0.0);
   for (unsigned int c = 0; c < k; ++c)
