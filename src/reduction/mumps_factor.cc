@@ -84,26 +84,46 @@ MumpsFactor::MumpsFactor(const Epetra_CrsMatrix &A, const std::size_t host_numbe
   m.n_rows = A.NumMyRows();
 
   // The upper triangle of this process' rows (MUMPS sums an entry given twice, so only one
-  // triangle of a symmetric matrix is handed over).
+  // triangle of a symmetric matrix is handed over): counted first, so that the triplets, half
+  // the matrix, are allocated once at their size.
   std::vector<int> my_rows(m.n_rows);
-  for (unsigned int i = 0; i < m.n_rows; ++i)
+  bool readable = true;
+  std::size_t n_upper = 0;
+  for (const bool fill : {false, true})
     {
-      const long long row = A.GRID64(i);
-      my_rows[i] = static_cast<int>(row);
-      int n_entries = 0;
-      double *entries = nullptr;
-      int *columns = nullptr;
-      if (A.ExtractMyRowView(i, n_entries, entries, columns) != 0)
-        throw SolverError("MUMPS: row " + std::to_string(row) + " of the matrix could not be read");
-      for (int e = 0; e < n_entries; ++e)
+      if (fill)
         {
-          const long long column = A.GCID64(columns[e]);
-          if (column < row) continue;
-          m.irn.push_back(static_cast<int>(row + 1));
-          m.jcn.push_back(static_cast<int>(column + 1));
-          m.values.push_back(entries[e]);
+          m.irn.reserve(n_upper);
+          m.jcn.reserve(n_upper);
+          m.values.reserve(n_upper);
+        }
+      for (unsigned int i = 0; i < m.n_rows && readable; ++i)
+        {
+          const long long row = A.GRID64(i);
+          my_rows[i] = static_cast<int>(row);
+          int n_entries = 0;
+          double *entries = nullptr;
+          int *columns = nullptr;
+          readable = A.ExtractMyRowView(i, n_entries, entries, columns) == 0;
+          for (int e = 0; e < n_entries && readable; ++e)
+            {
+              const long long column = A.GCID64(columns[e]);
+              if (column < row) continue;
+              if (!fill)
+                {
+                  ++n_upper;
+                  continue;
+                }
+              m.irn.push_back(static_cast<int>(row + 1));
+              m.jcn.push_back(static_cast<int>(column + 1));
+              m.values.push_back(entries[e]);
+            }
         }
     }
+  // Decided on every process, before the collectives below.
+  int all_readable = readable ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &all_readable, 1, MPI_INT, MPI_MIN, m.communicator);
+  if (!all_readable) throw SolverError("MUMPS: the rows of the matrix could not be read (not filled)");
 
   // The host learns which rows each process holds: right-hand sides are gathered there.
   const int n_mine = static_cast<int>(m.n_rows);
