@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <string>
 #include <vector>
 
 namespace flextrack::reduction
@@ -149,6 +150,8 @@ MumpsFactor::MumpsFactor(const Epetra_CrsMatrix &A, const std::size_t host_numbe
   m.id.icntl[9] = 0;  // ICNTL(10) = 0: no iterative refinement, and
   m.id.icntl[10] = 0; // ICNTL(11) = 0: no error analysis; the solves then need only the factor
   m.id.icntl[17] = 3; // ICNTL(18) = 3: the matrix is given distributed, each process its triplets
+  m.id.icntl[19] = 0; // ICNTL(20) = 0: dense right-hand sides, on the host
+  m.id.icntl[20] = 0; // ICNTL(21) = 0: the solution centralised on the host
   m.id.icntl[27] = 1; // ICNTL(28) = 1: sequential analysis (Debian's MUMPS has no parallel ordering)
   m.id.n = static_cast<MUMPS_INT>(A.NumGlobalRows64());
   m.id.nnz_loc = static_cast<MUMPS_INT8>(m.values.size());
@@ -238,8 +241,6 @@ void MumpsFactor::solve_columns(const double *B, double *X, const unsigned int k
       m.id.lrhs = static_cast<MUMPS_INT>(n);
     }
   m.id.nrhs = static_cast<MUMPS_INT>(k);
-  m.id.icntl[19] = 0; // ICNTL(20): dense right-hand sides
-  m.id.icntl[20] = 0; // ICNTL(21): the solution centralised on the host
   m.call(3, "solve");
   if (m.host) each_entry([&](const std::size_t to, const std::size_t from) { m.gathered[to] = m.dense[from]; });
   MPI_Scatterv(m.gathered.data(), counts_k.data(), firsts_k.data(), MPI_DOUBLE, X, static_cast<int>(m.n_rows * k),
@@ -256,18 +257,4 @@ int MumpsFactor::negative_pivots() const
   return instance->id.infog[11];
 }
 
-std::string MumpsFactor::ordering() const
-{
-  switch (instance->id.infog[6])
-    {
-      case 0: return "AMD";
-      case 1: return "given";
-      case 2: return "AMF";
-      case 3: return "SCOTCH";
-      case 4: return "PORD";
-      case 5: return "METIS";
-      case 6: return "QAMD";
-      default: return "ordering " + std::to_string(instance->id.infog[6]);
-    }
-}
 } // namespace flextrack::reduction

@@ -11,7 +11,6 @@
 
 #include <cstddef>
 #include <memory>
-#include <string>
 
 class Epetra_CrsMatrix;
 
@@ -43,8 +42,6 @@ public:
   /// eigenvalues of (K, M) below sigma. Exact on one process; on several, MUMPS does not count
   /// the pivots of a root front that ScaLAPACK factorises.
   int negative_pivots() const;
-  /// The ordering MUMPS used (INFOG(7)), for the log: "PORD", "AMF", ...
-  std::string ordering() const;
 
 private:
   /// solve_many for at most as many columns as the host's buffers are sized for.

@@ -14,15 +14,13 @@
 #include <string>
 
 class Amesos_BaseSolver;
-namespace flextrack::reduction
-{
-class MumpsFactor;
-}
 class Epetra_LinearProblem;
 class Epetra_Vector;
 
 namespace flextrack::reduction
 {
+class MumpsFactor;
+
 class SparseFactorization
 {
 public:
